@@ -1,0 +1,82 @@
+# MBSPH build. `make` builds build/mbsph; `make test` runs every test;
+# `make run` runs the default case and draws its pictures. See README.md.
+ifeq ($(origin FC),default)
+FC        = mpif90
+endif
+HDF5_INC  ?= /usr/include/hdf5/openmpi
+HDF5_LIB  ?= /usr/lib/x86_64-linux-gnu/hdf5/openmpi
+# ARCH: -march=native here; `make PORTABLE=1` for a cluster build whose
+# login and compute nodes differ.
+ifdef PORTABLE
+ARCH      ?= -mtune=generic
+else
+ARCH      ?= -march=native
+endif
+WARN      = -std=f2008 -Wall -Wextra -fimplicit-none
+OPT_release = -O3 $(ARCH)
+OPT_debug   = -g -O0 -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktrace
+PYTHON    = .venv/bin/python
+# the specialised pair loops share one interface; each variant leaves the
+# arguments of the models it does not use untouched, by design
+XFLAGS_fluid_forces = -Wno-unused-dummy-argument
+
+# every object is built twice: build/ (release) and build/debug/
+SRC       := $(sort $(wildcard src/*.f90 src/*.F90))
+NAMES     := $(basename $(notdir $(SRC)))
+LIBNAMES  := $(filter-out mbsph,$(NAMES))
+UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
+UNIT      := $(basename $(notdir $(UNIT_SRC)))
+
+.PHONY: all debug deps test unit unit-debug pytest run lint bench clean figures
+all: build/mbsph
+debug: build/debug/mbsph
+
+define variant # $(1)=build dir, $(2)=flags
+$(1)/obj/%.o: src/%.f90 | $(1)/obj $(1)/mod
+	$$(FC) $(2) -I$$(HDF5_INC) -Isrc -J$(1)/mod $$(XFLAGS_$$*) -c $$< -o $$@
+$(1)/obj/%.o: src/%.F90 | $(1)/obj $(1)/mod
+	$$(FC) $(2) -I$$(HDF5_INC) -Isrc -J$(1)/mod $$(XFLAGS_$$*) -c $$< -o $$@
+$(1)/mbsph: $(addprefix $(1)/obj/,$(addsuffix .o,$(NAMES)))
+	$$(FC) $(2) -o $$@ $$^ -L$$(HDF5_LIB) -lhdf5_fortran -lhdf5
+$(1)/obj/testing.o: tests/unit/testing.f90 | $(1)/obj $(1)/mod
+	$$(FC) $(2) -J$(1)/mod -c $$< -o $$@
+$(1)/tests/%: tests/unit/%.f90 $(1)/obj/testing.o $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) | $(1)/tests
+	$$(FC) $(2) -I$(1)/mod -J$(1)/tests -o $$@ $$< $(1)/obj/testing.o \
+	  $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) -L$$(HDF5_LIB) -lhdf5_fortran -lhdf5
+$(1)/deps.mk: $(SRC) tools/fdeps.sh | $(1)/obj
+	tools/fdeps.sh $(1)/obj $(SRC) > $$@
+$(1)/obj $(1)/mod $(1)/tests:
+	mkdir -p $$@
+endef
+$(eval $(call variant,build,$(WARN) $(OPT_release)))
+$(eval $(call variant,build/debug,$(WARN) $(OPT_debug)))
+-include build/deps.mk build/debug/deps.mk
+
+deps:
+	@bash tools/deps.sh
+
+unit: build/mbsph $(addprefix build/tests/,$(UNIT))
+	@fail=0; for t in $(UNIT); do build/tests/$$t || fail=1; done; exit $$fail
+unit-debug: build/debug/mbsph $(addprefix build/debug/tests/,$(UNIT))
+	@fail=0; for t in $(UNIT); do build/debug/tests/$$t || fail=1; done; exit $$fail
+
+# the whole suite: unit tests on the release and the debug build, then the
+# integration tests (cases, restart, bad input, output, ParaView)
+test: deps
+	$(MAKE) -j2 build/mbsph build/debug/mbsph
+	$(MAKE) unit unit-debug
+	$(PYTHON) -m pytest -q tests
+
+run: deps build/mbsph
+	build/mbsph input/dambreak.nml
+	$(PYTHON) -m post.plot_field OUT/dambreak --field pressure
+	$(PYTHON) -m post.dambreak OUT/dambreak
+
+lint: deps
+	bash tools/lint.sh
+
+bench: deps build/mbsph
+	$(PYTHON) bench/run_bench.py
+
+clean:
+	rm -rf build

@@ -1,0 +1,163 @@
+"""SPH interpolation of particle fields at arbitrary points.
+
+Only fluid particles (``kind == 1``) contribute. With the particle volume
+``V_j = m_j / rho_j`` and the Wendland C2 kernel ``W`` of support ``2h``:
+
+- the kernel sum (the "fluid fraction") is ``S(x) = sum_j V_j W(x - x_j)``:
+  about 1 inside the water, 1/2 on the free surface, 0 outside;
+- a field is interpolated with Shepard normalisation,
+  ``f(x) = sum_j f_j V_j W(x - x_j) / S(x)``, which reproduces constant fields
+  exactly and linear fields to high accuracy away from the free surface.
+
+Neighbours are found with a cell list (cells as wide as the kernel support),
+vectorised over chunks of points; 1e5 particles against 1e5 points take about
+a second.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from .io import Snapshot
+
+__all__ = [
+    "wendland_c2",
+    "kernel_sum",
+    "interpolate",
+    "free_surface_height",
+    "SURFACE_LEVEL",
+    "MIN_SUPPORT",
+]
+
+#: Kernel sum on the free surface: half of the kernel lies in the water.
+SURFACE_LEVEL = 0.5
+#: Default kernel sum below which a point is taken to be outside the water.
+MIN_SUPPORT = 0.1
+
+_POINTS_PER_CHUNK = 8192
+
+
+def wendland_c2(r: np.ndarray | float, h: float) -> np.ndarray:
+    """Wendland C2 kernel in 2D: ``7/(4 pi h^2) (1 - q/2)^4 (2q + 1)`` for ``q = r/h < 2``, else 0."""
+    q = np.asarray(r, dtype=float) / h
+    t = np.clip(1.0 - 0.5 * q, 0.0, None)
+    return 7.0 / (4.0 * np.pi * h * h) * t**4 * (2.0 * q + 1.0)
+
+
+def _as_points(points: Sequence[float] | np.ndarray) -> np.ndarray:
+    """Return points as an ``(M, 2)`` float array (one point ``(x, y)`` is accepted)."""
+    pts = np.asarray(points, dtype=float)
+    if pts.shape == (2,):
+        pts = pts[None, :]
+    if pts.ndim != 2 or pts.shape[1] != 2:
+        raise ValueError(f"points must have shape (M, 2), got {pts.shape}")
+    return pts
+
+
+def _weighted_sums(points: np.ndarray, xj: np.ndarray, weights: np.ndarray, h: float) -> np.ndarray:
+    """Return ``sum_j W(|points_i - xj_j|) weights_jk`` with shape ``(M, K)``.
+
+    ``weights`` has shape ``(N, K)``. The particles are binned in square cells of the
+    kernel support ``2h`` and sorted by cell; each point meets only the particles of the
+    3 x 3 cells around its own, all (point, particle) pairs of a chunk of points at once.
+    """
+    m, n = points.shape[0], xj.shape[0]
+    out = np.zeros((m, weights.shape[1]))
+    if m == 0 or n == 0:
+        return out
+    cell = 2.0 * h
+    origin = xj.min(axis=0)
+    cj = np.floor((xj - origin) / cell).astype(np.int64)
+    ny = int(cj[:, 1].max()) + 1
+    nx = int(cj[:, 0].max()) + 1
+    key = cj[:, 0] * ny + cj[:, 1]
+    order = np.argsort(key, kind="stable")
+    key, xs, ws = key[order], xj[order], weights[order]
+    ci = np.floor((points - origin) / cell)
+    ci = np.clip(ci, -2, np.array([nx, ny]) + 1).astype(np.int64)  # far points: no neighbour cell
+    offsets = np.array([(dx, dy) for dx in (-1, 0, 1) for dy in (-1, 0, 1)])
+    for start in range(0, m, _POINTS_PER_CHUNK):
+        rows = np.arange(start, min(start + _POINTS_PER_CHUNK, m))
+        cx = ci[rows, 0][:, None] + offsets[None, :, 0]
+        cy = ci[rows, 1][:, None] + offsets[None, :, 1]
+        valid = (cx >= 0) & (cx < nx) & (cy >= 0) & (cy < ny)
+        cells = np.where(valid, cx * ny + cy, -1).ravel()
+        first = np.searchsorted(key, cells, side="left")
+        count = np.where(cells >= 0, np.searchsorted(key, cells, side="right") - first, 0)
+        total = int(count.sum())
+        if total == 0:
+            continue
+        point = np.repeat(np.repeat(rows, len(offsets)), count)
+        skip = np.repeat(np.cumsum(count) - count - first, count)
+        part = np.arange(total) - skip
+        d = points[point] - xs[part]
+        w = wendland_c2(np.hypot(d[:, 0], d[:, 1]), h)
+        for k in range(weights.shape[1]):
+            out[:, k] += np.bincount(point, weights=w * ws[part, k], minlength=m)
+    return out
+
+
+def kernel_sum(snapshot: Snapshot, points: Sequence[float] | np.ndarray) -> np.ndarray:
+    """Return the fluid kernel sum ``sum_j V_j W(x - x_j)`` at each point, shape ``(M,)``."""
+    fluid = snapshot.fluid
+    weights = snapshot.volume[fluid][:, None]
+    return _weighted_sums(_as_points(points), snapshot.position[fluid], weights, snapshot.h)[:, 0]
+
+
+def interpolate(snapshot: Snapshot, field: str | np.ndarray, points: Sequence[float] | np.ndarray,
+                min_support: float = MIN_SUPPORT) -> np.ndarray:
+    """Shepard-normalised SPH interpolation of a particle field at points.
+
+    ``field`` is a snapshot field name (``"pressure"``, ``"density"``, ``"velocity"``,
+    ...) or an array with one value (or one row) per particle of the snapshot.
+    Returns shape ``(M,)`` for a scalar field and ``(M, K)`` for a vector field, with
+    NaN at points whose kernel sum is below ``min_support`` (outside the water).
+    """
+    values = np.asarray(getattr(snapshot, field) if isinstance(field, str) else field, dtype=float)
+    if values.shape[0] != snapshot.position.shape[0]:
+        raise ValueError(f"field has {values.shape[0]} values for {snapshot.position.shape[0]} particles")
+    scalar = values.ndim == 1
+    fluid = snapshot.fluid
+    vol = snapshot.volume[fluid]
+    f = values[fluid].reshape(int(fluid.sum()), -1)
+    weights = np.column_stack([vol, vol[:, None] * f])
+    sums = _weighted_sums(_as_points(points), snapshot.position[fluid], weights, snapshot.h)
+    support = sums[:, :1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        result = np.where(support >= min_support, sums[:, 1:] / support, np.nan)
+    return result[:, 0] if scalar else result
+
+
+def free_surface_height(snapshot: Snapshot, x: float | Sequence[float] | np.ndarray,
+                        dy: float | None = None, level: float = SURFACE_LEVEL) -> float | np.ndarray:
+    """Water surface elevation at horizontal position(s) ``x``.
+
+    The kernel sum is scanned on a vertical grid of spacing ``dy`` (default ``dp / 10``)
+    spanning the fluid particles; the surface is the highest height where it is at
+    least ``level``, refined by linear interpolation to the crossing of ``level``.
+    Returns NaN where there is no water; a float for a scalar ``x``.
+    """
+    xs = np.atleast_1d(np.asarray(x, dtype=float))
+    y_fluid = snapshot.position[snapshot.fluid, 1]
+    if y_fluid.size == 0:
+        heights = np.full(xs.shape, np.nan)
+        return float(heights[0]) if np.ndim(x) == 0 else heights
+    dy = snapshot.dp / 10.0 if dy is None else dy
+    support = 2.0 * snapshot.h
+    ys = np.arange(y_fluid.min() - support, y_fluid.max() + support + dy, dy)
+    grid = np.column_stack([np.repeat(xs, len(ys)), np.tile(ys, len(xs))])
+    sums = kernel_sum(snapshot, grid).reshape(len(xs), len(ys))
+    heights = np.full(xs.shape, np.nan)
+    for i, column in enumerate(sums):
+        wet = np.nonzero(column >= level)[0]
+        if wet.size == 0:
+            continue
+        k = wet[-1]
+        if k + 1 < len(ys):
+            frac = (column[k] - level) / (column[k] - column[k + 1])
+            heights[i] = ys[k] + frac * dy
+        else:
+            heights[i] = ys[k]
+    return float(heights[0]) if np.ndim(x) == 0 else heights

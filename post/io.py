@@ -1,0 +1,249 @@
+"""Readers for the files MBSPH writes into its output folder (see doc/output.md).
+
+One reader per file kind:
+
+- :func:`list_snapshots` and :func:`read_snapshot` for ``snap_NNNNN.h5``,
+- :func:`snapshot_time` and :func:`closest_snapshots` to pick snapshots by time
+  without loading their particle arrays,
+- :func:`read_csv` for ``energy.csv`` (or any one-header-line CSV file),
+- :func:`read_case` for the effective namelist ``case.nml``, and
+  :func:`fluid_box` for the first ``&box`` group with ``role = 'fluid'``.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import f90nml
+import h5py
+import numpy as np
+
+__all__ = [
+    "Snapshot",
+    "list_snapshots",
+    "read_snapshot",
+    "snapshot_time",
+    "closest_snapshots",
+    "read_csv",
+    "read_case",
+    "fluid_box",
+]
+
+_SNAP_RE = re.compile(r"^snap_(\d+)\.h5$")
+
+#: Particle kinds stored in ``/kind``.
+FLUID, FIXED_BOUNDARY, MOVING_BOUNDARY, FLOATING_BODY = 1, 2, 3, 4
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """One particle snapshot: the datasets and root attributes of ``snap_NNNNN.h5``.
+
+    Vector fields have shape ``(N, 2)``, scalar fields shape ``(N,)``. ``gravity`` is
+    kept as stored (a scalar or a vector, possibly signed); :attr:`g` is its magnitude.
+    ``attrs`` holds every root attribute as read, including any not listed here.
+    """
+
+    path: Path
+    position: np.ndarray
+    velocity: np.ndarray
+    density: np.ndarray
+    pressure: np.ndarray
+    mass: np.ndarray
+    kind: np.ndarray
+    body: np.ndarray
+    id: np.ndarray
+    time: float
+    dt: float
+    step: int
+    n_particles: int
+    dp: float
+    h: float
+    rho0: float
+    c0: float
+    gravity: float | np.ndarray
+    case_name: str
+    case_nml: str
+    attrs: dict[str, Any] = field(default_factory=dict, repr=False)
+
+    @property
+    def fluid(self) -> np.ndarray:
+        """Boolean mask of the fluid particles (``kind == 1``)."""
+        return self.kind == FLUID
+
+    @property
+    def volume(self) -> np.ndarray:
+        """Particle volume ``m / rho`` (m2 in 2D, per metre of width)."""
+        return self.mass / self.density
+
+    @property
+    def g(self) -> float:
+        """Magnitude of the gravity acceleration (m/s2)."""
+        return float(np.linalg.norm(np.atleast_1d(self.gravity)))
+
+
+def _decode(value: Any) -> str:
+    """Return an HDF5 string attribute (bytes, numpy bytes or str) as ``str``.
+
+    Fortran writes fixed-length strings, padded with NULs or blanks: both are stripped.
+    """
+    if isinstance(value, np.ndarray):
+        value = value.reshape(-1)[0] if value.size == 1 else b"".join(value.reshape(-1))
+    if isinstance(value, (bytes, np.bytes_)):
+        value = bytes(value).decode("utf-8", errors="replace")
+    return str(value).rstrip("\x00 ")
+
+
+def _number(value: Any, default: float = float("nan")) -> Any:
+    """Return a numeric attribute as a Python scalar, or as an array if it has several values."""
+    if value is None:
+        return default
+    arr = np.asarray(value)
+    return arr.reshape(-1)[0].item() if arr.size == 1 else arr.astype(float)
+
+
+def _vectors(values: np.ndarray, name: str) -> np.ndarray:
+    """Return a vector dataset as ``(N, 2)`` floats; a ``(2, N)`` layout is transposed."""
+    arr = np.asarray(values, dtype=float)
+    if arr.ndim == 2 and arr.shape[1] == 2:
+        return arr
+    if arr.ndim == 2 and arr.shape[0] == 2:
+        return arr.T.copy()
+    raise ValueError(f"/{name} has shape {arr.shape}, expected (N, 2)")
+
+
+def _snapshot_index(path: Path) -> int:
+    """Output index NNNNN of ``snap_NNNNN.h5`` (-1 for another name)."""
+    match = _SNAP_RE.match(path.name)
+    return int(match.group(1)) if match else -1
+
+
+def list_snapshots(out_dir: str | Path) -> list[Path]:
+    """Return the snapshot files ``snap_NNNNN.h5`` of an output folder, in output order."""
+    paths = [p for p in Path(out_dir).iterdir() if _SNAP_RE.match(p.name)]
+    return sorted(paths, key=_snapshot_index)
+
+
+def read_snapshot(path: str | Path) -> Snapshot:
+    """Read one snapshot file into a :class:`Snapshot`."""
+    path = Path(path)
+    with h5py.File(path, "r") as f:
+        data = {
+            name: f[name][()]
+            for name in ("position", "velocity", "density", "pressure", "mass", "kind", "body", "id")
+        }
+        attrs = {key: f.attrs[key] for key in f.attrs}
+    for name in ("position", "velocity"):
+        data[name] = _vectors(data[name], name)
+    for name in ("density", "pressure", "mass"):
+        data[name] = np.asarray(data[name], dtype=float).reshape(-1)
+    for name in ("kind", "body", "id"):
+        data[name] = np.asarray(data[name], dtype=np.int64).reshape(-1)
+    n = data["position"].shape[0]
+    return Snapshot(
+        path=path,
+        time=float(_number(attrs.get("time"))),
+        dt=float(_number(attrs.get("dt"))),
+        step=int(_number(attrs.get("step"), -1)),
+        n_particles=int(_number(attrs.get("n_particles"), n)),
+        dp=float(_number(attrs.get("dp"))),
+        h=float(_number(attrs.get("h"))),
+        rho0=float(_number(attrs.get("rho0"))),
+        c0=float(_number(attrs.get("c0"))),
+        gravity=_number(attrs.get("gravity")),
+        case_name=_decode(attrs.get("case_name", "")),
+        case_nml=_decode(attrs.get("case_nml", "")),
+        attrs=attrs,
+        **data,
+    )
+
+
+def snapshot_time(path: str | Path) -> float:
+    """Return the ``time`` attribute of a snapshot without reading its particle data."""
+    with h5py.File(path, "r") as f:
+        return float(_number(f.attrs["time"]))
+
+
+def closest_snapshots(out_dir: str | Path, times: Sequence[float] | None = None,
+                      count: int = 4) -> list[Path]:
+    """Return the snapshots whose times are closest to ``times``, in order, without repeats.
+
+    Without ``times``, ``count`` times evenly spread from the first to the last snapshot
+    are used.
+    """
+    paths = list_snapshots(out_dir)
+    if not paths:
+        raise FileNotFoundError(f"no snapshot snap_NNNNN.h5 in {out_dir}")
+    stored = np.array([snapshot_time(p) for p in paths])
+    wanted = np.linspace(stored[0], stored[-1], count) if times is None else np.asarray(times, float)
+    chosen: list[Path] = []
+    for t in np.atleast_1d(wanted):
+        path = paths[int(np.argmin(np.abs(stored - t)))]
+        if path not in chosen:
+            chosen.append(path)
+    return chosen
+
+
+def _parse_column(values: list[str]) -> np.ndarray:
+    """Return a CSV column as int64 when every entry is an integer, else float64."""
+    try:
+        return np.array([int(v) for v in values], dtype=np.int64)
+    except ValueError:
+        return np.array([float(v) for v in values], dtype=float)
+
+
+def read_csv(path: str | Path) -> dict[str, np.ndarray]:
+    """Read a comma-separated file with one header line into ``{column name: array}``.
+
+    Blank lines are skipped. Columns of integers come back as int64, others as float64.
+    """
+    lines = [ln.strip() for ln in Path(path).read_text().splitlines()]
+    lines = [ln for ln in lines if ln]
+    if not lines:
+        raise ValueError(f"{path}: empty file, no header line")
+    names = [name.strip() for name in lines[0].split(",")]
+    rows = [[v.strip() for v in ln.split(",")] for ln in lines[1:]]
+    for number, row in enumerate(rows, start=2):
+        if len(row) != len(names):
+            raise ValueError(f"{path}: data line {number} has {len(row)} fields, header has {len(names)}")
+    columns = list(zip(*rows)) if rows else [()] * len(names)
+    return {name: _parse_column(list(col)) for name, col in zip(names, columns)}
+
+
+def read_case(out_dir: str | Path) -> f90nml.Namelist:
+    """Return the effective namelist of a run.
+
+    ``out_dir`` is the output folder (its ``case.nml`` is read) or a namelist file.
+    Without ``case.nml`` the ``case_nml`` attribute of the first snapshot is used.
+    """
+    path = Path(out_dir)
+    if path.is_file():
+        return f90nml.read(str(path))
+    if (path / "case.nml").is_file():
+        return f90nml.read(str(path / "case.nml"))
+    snapshots = list_snapshots(path)
+    if snapshots:
+        with h5py.File(snapshots[0], "r") as f:
+            if "case_nml" in f.attrs:
+                return f90nml.reads(_decode(f.attrs["case_nml"]))
+    raise FileNotFoundError(f"no case.nml and no snapshot with a case_nml attribute in {path}")
+
+
+def fluid_box(nml: f90nml.Namelist) -> tuple[float, float, float, float] | None:
+    """Return ``(xmin, xmax, ymin, ymax)`` of the first ``&box`` with ``role = 'fluid'``, or None.
+
+    A bound missing from the group is returned as NaN.
+    """
+    groups = nml.get("box")
+    if groups is None:
+        return None
+    if isinstance(groups, f90nml.Namelist):
+        groups = [groups]
+    for group in groups:
+        if str(group.get("role", "")).strip().lower() == "fluid":
+            xmin, xmax, ymin, ymax = (float(group.get(key, np.nan)) for key in ("xmin", "xmax", "ymin", "ymax"))
+            return xmin, xmax, ymin, ymax
+    return None

@@ -1,0 +1,36 @@
+!> Physical and bookkeeping constants shared by all subsystems.
+module constants
+   use kinds, only: rp
+   implicit none
+   private
+   public :: pi, ndim, kind_fluid, kind_fixed, kind_moving, kind_floating, kind_name, &
+             name_len, path_len, msg_len
+
+   real(rp), parameter :: pi = 3.14159265358979323846_rp
+   integer, parameter :: ndim = 2            !< space dimensions; arrays are shaped (ndim, n)
+
+   ! particle kinds: the integer stored per particle and in the snapshots
+   integer, parameter :: kind_fluid = 1
+   integer, parameter :: kind_fixed = 2      !< fixed boundary (walls, floor, slopes)
+   integer, parameter :: kind_moving = 3     !< boundary with prescribed motion
+   integer, parameter :: kind_floating = 4   !< boundary of a free rigid body
+
+   integer, parameter :: name_len = 32
+   integer, parameter :: path_len = 512
+   integer, parameter :: msg_len = 1024
+
+contains
+
+   !> Human-readable name of a particle kind.
+   pure function kind_name(k) result(s)
+      integer, intent(in) :: k
+      character(len=:), allocatable :: s
+      select case (k)
+      case (kind_fluid); s = 'fluid'
+      case (kind_fixed); s = 'fixed boundary'
+      case (kind_moving); s = 'moving boundary'
+      case (kind_floating); s = 'floating body'
+      case default; s = 'unknown'
+      end select
+   end function kind_name
+end module constants

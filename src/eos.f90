@@ -1,0 +1,34 @@
+!> Tait equation of state: p = B ((rho/rho0)^gamma - 1), c = c0 (rho/rho0)^((gamma-1)/2).
+module eos
+   use kinds, only: rp
+   use params, only: params_t
+   implicit none
+   private
+   public :: eos_update, eos_density_at_depth
+
+contains
+
+   !> Pressure and sound speed of particles 1..n.
+   subroutine eos_update(prm, n, rho, p, cs)
+      type(params_t), intent(in) :: prm
+      integer, intent(in) :: n
+      real(rp), intent(in) :: rho(:)
+      real(rp), intent(out) :: p(:), cs(:)
+      integer :: i
+      real(rp) :: r, rg, inv_rho0
+      inv_rho0 = 1.0_rp/prm%rho0
+      do i = 1, n
+         r = rho(i)*inv_rho0
+         rg = r**prm%gamma
+         p(i) = prm%b*(rg - 1.0_rp)
+         cs(i) = prm%c0*sqrt(rg/r)
+      end do
+   end subroutine eos_update
+
+   !> Density of water at rest at depth d below the surface (d < 0: above it).
+   elemental real(rp) function eos_density_at_depth(prm, d) result(rho)
+      type(params_t), intent(in) :: prm
+      real(rp), intent(in) :: d
+      rho = prm%rho0*max(1.0_rp + prm%rho0*prm%g*d/prm%b, 0.5_rp)**(1.0_rp/prm%gamma)
+   end function eos_density_at_depth
+end module eos

@@ -1,0 +1,43 @@
+!> Fatal errors: one clear message naming the cause, then every rank stops
+!> with a non-zero exit code.
+module errors
+   use comm, only: comm_abort, comm_rank, comm_size
+   use logger, only: log_error
+   implicit none
+   private
+   public :: fatal, input_error, warn
+
+contains
+
+   !> Stop the run with a message. Exit code 1 (2 for input errors).
+   subroutine fatal(msg, code)
+      character(len=*), intent(in) :: msg
+      integer, intent(in), optional :: code
+      character(len=16) :: r
+      integer :: c
+      c = 1
+      if (present(code)) c = code
+      if (comm_size() > 1) then
+         write (r, '(i0)') comm_rank()
+         call log_error('mbsph: error (rank '//trim(r)//'): '//msg)
+      else
+         call log_error('mbsph: error: '//msg)
+      end if
+      call comm_abort(c)
+   end subroutine fatal
+
+   !> Stop on bad input, naming the file, the namelist group and the variable.
+   subroutine input_error(file, group, var, msg)
+      character(len=*), intent(in) :: file, group, var, msg
+      if (len_trim(var) > 0) then
+         call fatal(trim(file)//': &'//trim(group)//': '//trim(var)//': '//msg, 2)
+      else
+         call fatal(trim(file)//': &'//trim(group)//': '//msg, 2)
+      end if
+   end subroutine input_error
+
+   subroutine warn(msg)
+      character(len=*), intent(in) :: msg
+      if (comm_rank() == 0) call log_error('mbsph: warning: '//msg)
+   end subroutine warn
+end module errors

@@ -1,0 +1,299 @@
+!> Fluid forces: continuity and momentum of weakly compressible SPH over all
+!> particle pairs (dynamic boundary: wall particles take part in continuity
+!> and lend their pressure to the fluid). The pair loop is chosen once per
+!> run among specialised variants (fluid_pairs.inc), one per combination of
+!> kernel, viscosity model, density diffusion and gradient correction.
+module fluid_forces
+   use kinds, only: rp
+   use constants, only: kind_fluid
+   use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient
+   use grid, only: grid_t
+   use particles, only: particles_t
+   use eos, only: eos_update, eos_density_at_depth
+   use kernel, only: kernel_cubic
+   use kernel_correction, only: kgc_matrices
+   implicit none
+   private
+   public :: forces_work_t, forces_init, forces_compute
+
+   !> Per-particle work arrays of a force evaluation (not kept across steps).
+   type :: forces_work_t
+      real(rp), allocatable :: acc(:, :)   !< acceleration [m/s2]
+      real(rp), allocatable :: drho(:)     !< density rate [kg/m3/s]
+      real(rp), allocatable :: cs(:)       !< sound speed [m/s]
+      real(rp), allocatable :: rhod(:)     !< density used by the diffusion term
+      real(rp), allocatable :: lm(:, :)    !< gradient correction matrices
+      real(rp), allocatable :: tau(:, :)   !< SPS stress / rho^2
+      real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]
+   end type forces_work_t
+
+   abstract interface
+      subroutine pairs_iface(n, ncell, nx, cstart, x, v, rho, p, mass, kind, cs, rhod, lm, tau, &
+                             h, support2, eta2, fw, alpha, nu4, dcoef, acc, drho, mumax)
+         import :: rp
+         integer, intent(in) :: n, ncell, nx
+         integer, intent(in) :: cstart(:)
+         real(rp), intent(in) :: x(2, n), v(2, n), rho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
+         integer, intent(in) :: kind(n)
+         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef
+         real(rp), intent(inout) :: acc(2, n), drho(n)
+         real(rp), intent(inout) :: mumax
+      end subroutine pairs_iface
+   end interface
+
+   procedure(pairs_iface), pointer :: pairs => null()
+
+contains
+
+#include "kernel_formulas.inc"
+
+   !> Choose the pair loop for this run's models.
+   subroutine forces_init(prm)
+      type(params_t), intent(in) :: prm
+      integer :: code
+      code = merge(1, 0, prm%kernel == kernel_cubic) + 2*merge(1, 0, prm%visc == visc_laminar_sps) &
+             + 4*merge(1, 0, prm%diffusion /= diff_none) + 8*merge(1, 0, prm%kgc == kgc_gradient)
+      select case (code)
+      case (0); pairs => pairs_k1_v1_d0_g0
+      case (1); pairs => pairs_k2_v1_d0_g0
+      case (2); pairs => pairs_k1_v2_d0_g0
+      case (3); pairs => pairs_k2_v2_d0_g0
+      case (4); pairs => pairs_k1_v1_d1_g0
+      case (5); pairs => pairs_k2_v1_d1_g0
+      case (6); pairs => pairs_k1_v2_d1_g0
+      case (7); pairs => pairs_k2_v2_d1_g0
+      case (8); pairs => pairs_k1_v1_d0_g1
+      case (9); pairs => pairs_k2_v1_d0_g1
+      case (10); pairs => pairs_k1_v2_d0_g1
+      case (11); pairs => pairs_k2_v2_d0_g1
+      case (12); pairs => pairs_k1_v1_d1_g1
+      case (13); pairs => pairs_k2_v1_d1_g1
+      case (14); pairs => pairs_k1_v2_d1_g1
+      case (15); pairs => pairs_k2_v2_d1_g1
+      end select
+   end subroutine forces_init
+
+   subroutine ensure(w, nmax, prm)
+      type(forces_work_t), intent(inout) :: w
+      integer, intent(in) :: nmax
+      type(params_t), intent(in) :: prm
+      if (allocated(w%acc)) then
+         if (size(w%drho) >= nmax) return
+         deallocate (w%acc, w%drho, w%cs, w%rhod, w%lm, w%tau)
+      end if
+      allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax))
+      ! arrays of models that are off stay minimal
+      if (prm%diffusion /= diff_none) then
+         allocate (w%rhod(nmax))
+      else
+         allocate (w%rhod(1))
+      end if
+      if (prm%kgc == kgc_gradient) then
+         allocate (w%lm(3, nmax))
+      else
+         allocate (w%lm(3, 1))
+      end if
+      if (prm%visc == visc_laminar_sps) then
+         allocate (w%tau(3, nmax))
+      else
+         allocate (w%tau(3, 1))
+      end if
+   end subroutine ensure
+
+   !> Pressure from density, then every pair: w%acc (gravity included, fluid
+   !> only meaningful) and w%drho for all particles.
+   subroutine forces_compute(prm, g, p, w)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(inout) :: p
+      type(forces_work_t), intent(inout) :: w
+      integer :: i, n
+      n = p%n
+      call ensure(w, size(p%rho), prm)
+      call eos_update(prm, n, p%rho, p%p, w%cs)
+      if (prm%diffusion == diff_fourtakas) then
+         do i = 1, n
+            w%rhod(i) = p%rho(i) - eos_density_at_depth(prm, prm%y_surface - p%x(2, i))
+         end do
+      else if (prm%diffusion /= diff_none) then
+         w%rhod(1:n) = p%rho(1:n)
+      end if
+      if (prm%kgc == kgc_gradient) call kgc_matrices(prm, g, p, w%lm)
+      if (prm%visc == visc_laminar_sps) call sps_stress(prm, g, p, w%tau)
+      w%acc(:, 1:n) = 0.0_rp
+      w%drho(1:n) = 0.0_rp
+      w%mumax = 0.0_rp
+      call pairs(n, g%ncell, g%nx, g%cstart, p%x, p%v, p%rho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+                 prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
+                 w%acc, w%drho, w%mumax)
+      do i = 1, n
+         if (p%kind(i) == kind_fluid) w%acc(2, i) = w%acc(2, i) - prm%g
+      end do
+   end subroutine forces_compute
+
+   !> Sub-particle-scale stress (Smagorinsky eddy viscosity with the Blin
+   !> term, Dalrymple and Rogers 2006), stored as (tau/rho)/rho per fluid particle.
+   subroutine sps_stress(prm, g, p, tau)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      real(rp), intent(out) :: tau(:, :)
+      real(rp), allocatable :: gv(:, :)
+      integer :: c, i, j, r, jlo(2), jhi(2)
+      real(rp) :: dx, dy, r2, q, fac, vi, vj, dvx, dvy, sxx, sxy, syy, s2, nut, sk, hinv
+      hinv = 1.0_rp/prm%h
+      allocate (gv(4, p%n))          ! du/dx, du/dy, dv/dx, dv/dy
+      gv = 0.0_rp
+      do c = 1, g%ncell - g%nx - 1
+         do i = g%cstart(c), g%cstart(c + 1) - 1
+            vi = p%mass(i)/p%rho(i)
+            jlo = [i + 1, g%cstart(c + g%nx - 1)]
+            jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
+            do r = 1, 2
+               do j = jlo(r), jhi(r)
+                  dx = p%x(1, i) - p%x(1, j)
+                  dy = p%x(2, i) - p%x(2, j)
+                  r2 = dx*dx + dy*dy
+                  if (r2 >= prm%support2) cycle
+                  q = sqrt(r2)*hinv
+                  if (prm%kernel == kernel_cubic) then
+                     fac = prm%fw*KF_CUBIC(q)
+                  else
+                     fac = prm%fw*KF_WENDLAND(q)
+                  end if
+                  vj = p%mass(j)/p%rho(j)
+                  dvx = p%v(1, j) - p%v(1, i)
+                  dvy = p%v(2, j) - p%v(2, i)
+                  ! grad v_i = sum_j V_j (v_j - v_i) grad_i W; grad_j W_ji = -grad_i W_ij
+                  gv(:, i) = gv(:, i) + vj*fac*[dvx*dx, dvx*dy, dvy*dx, dvy*dy]
+                  gv(:, j) = gv(:, j) + vi*fac*[dvx*dx, dvx*dy, dvy*dx, dvy*dy]
+               end do
+            end do
+         end do
+      end do
+      do i = 1, p%n
+         sxx = gv(1, i)
+         syy = gv(4, i)
+         sxy = 0.5_rp*(gv(2, i) + gv(3, i))
+         s2 = 2.0_rp*(sxx*sxx + syy*syy) + 4.0_rp*sxy*sxy        ! 2 S:S
+         nut = prm%sps_smag*sqrt(s2)
+         sk = -(2.0_rp/3.0_rp)*nut*(sxx + syy) - prm%sps_blin*s2
+         tau(1, i) = (2.0_rp*nut*sxx + sk)/p%rho(i)
+         tau(2, i) = 2.0_rp*nut*sxy/p%rho(i)
+         tau(3, i) = (2.0_rp*nut*syy + sk)/p%rho(i)
+         if (p%kind(i) /= kind_fluid) tau(:, i) = 0.0_rp
+      end do
+   end subroutine sps_stress
+
+#define PAIRS_NAME pairs_k1_v1_d0_g0
+#define KERN 1
+#define VISC 1
+#define DIFF 0
+#define KGC 0
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k1_v1_d0_g1
+#define KERN 1
+#define VISC 1
+#define DIFF 0
+#define KGC 1
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k1_v1_d1_g0
+#define KERN 1
+#define VISC 1
+#define DIFF 1
+#define KGC 0
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k1_v1_d1_g1
+#define KERN 1
+#define VISC 1
+#define DIFF 1
+#define KGC 1
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k1_v2_d0_g0
+#define KERN 1
+#define VISC 2
+#define DIFF 0
+#define KGC 0
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k1_v2_d0_g1
+#define KERN 1
+#define VISC 2
+#define DIFF 0
+#define KGC 1
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k1_v2_d1_g0
+#define KERN 1
+#define VISC 2
+#define DIFF 1
+#define KGC 0
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k1_v2_d1_g1
+#define KERN 1
+#define VISC 2
+#define DIFF 1
+#define KGC 1
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k2_v1_d0_g0
+#define KERN 2
+#define VISC 1
+#define DIFF 0
+#define KGC 0
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k2_v1_d0_g1
+#define KERN 2
+#define VISC 1
+#define DIFF 0
+#define KGC 1
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k2_v1_d1_g0
+#define KERN 2
+#define VISC 1
+#define DIFF 1
+#define KGC 0
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k2_v1_d1_g1
+#define KERN 2
+#define VISC 1
+#define DIFF 1
+#define KGC 1
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k2_v2_d0_g0
+#define KERN 2
+#define VISC 2
+#define DIFF 0
+#define KGC 0
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k2_v2_d0_g1
+#define KERN 2
+#define VISC 2
+#define DIFF 0
+#define KGC 1
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k2_v2_d1_g0
+#define KERN 2
+#define VISC 2
+#define DIFF 1
+#define KGC 0
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_k2_v2_d1_g1
+#define KERN 2
+#define VISC 2
+#define DIFF 1
+#define KGC 1
+#include "fluid_pairs.inc"
+end module fluid_forces

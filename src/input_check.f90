@@ -1,0 +1,254 @@
+!> Helpers shared by the input_* readers: open a case file, find unknown or
+!> misspelt groups, turn namelist read errors into messages that name the
+!> file, group and variable, and check values against their allowed range.
+module input_check
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
+   use kinds, only: rp
+   use constants, only: msg_len
+   use errors, only: input_error, fatal
+   implicit none
+   private
+   public :: open_case, scan_groups, group_count, read_failed, check_real, check_int, &
+             check_choice, lower, real_str, int_str
+
+   character(len=*), parameter :: known_groups(*) = [character(len=16) :: &
+      'run', 'domain', 'fluid', 'numerics', 'box', 'polygon', 'slope']
+
+contains
+
+   !> Lower-case copy of a string (namelist choices are case-insensitive).
+   pure function lower(s) result(r)
+      character(len=*), intent(in) :: s
+      character(len=len(s)) :: r
+      integer :: i, c
+      r = s
+      do i = 1, len(s)
+         c = iachar(s(i:i))
+         if (c >= iachar('A') .and. c <= iachar('Z')) r(i:i) = achar(c + 32)
+      end do
+   end function lower
+
+   function real_str(x) result(s)
+      real(rp), intent(in) :: x
+      character(len=:), allocatable :: s
+      character(len=32) :: b
+      write (b, '(g0.6)') x
+      s = trim(adjustl(b))
+   end function real_str
+
+   function int_str(i) result(s)
+      integer, intent(in) :: i
+      character(len=:), allocatable :: s
+      character(len=16) :: b
+      write (b, '(i0)') i
+      s = trim(b)
+   end function int_str
+
+   !> Open a case file for reading; stop with a clear message if it is missing.
+   integer function open_case(file) result(u)
+      character(len=*), intent(in) :: file
+      integer :: ios
+      character(len=msg_len) :: msg
+      open (newunit=u, file=file, status='old', action='read', iostat=ios, iomsg=msg)
+      if (ios /= 0) call fatal(trim(file)//': cannot open the case file: '//trim(msg), 2)
+   end function open_case
+
+   !> Check that every namelist group in the file is one we know, so that a
+   !> misspelt group is reported instead of silently skipped.
+   subroutine scan_groups(file)
+      character(len=*), intent(in) :: file
+      integer :: u, ios, line, i, j, k
+      character(len=4096) :: buf
+      character(len=64) :: name
+      logical :: in_str
+      character :: q
+      u = open_case(file)
+      line = 0
+      do
+         read (u, '(a)', iostat=ios) buf
+         if (ios /= 0) exit
+         line = line + 1
+         in_str = .false.
+         q = ' '
+         i = 1
+         do while (i <= len_trim(buf))
+            if (in_str) then
+               if (buf(i:i) == q) in_str = .false.
+            else if (buf(i:i) == '"' .or. buf(i:i) == "'") then
+               in_str = .true.
+               q = buf(i:i)
+            else if (buf(i:i) == '!') then
+               exit
+            else if (buf(i:i) == '&' .or. buf(i:i) == '$') then
+               j = i + 1
+               k = j
+               do while (k <= len_trim(buf))
+                  if (verify(buf(k:k), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_') /= 0) exit
+                  k = k + 1
+               end do
+               name = lower(buf(j:k - 1))
+               if (len_trim(name) > 0 .and. trim(name) /= 'end') then
+                  if (.not. any(known_groups == name)) then
+                     close (u)
+                     call fatal(trim(file)//': line '//int_str(line)//': unknown namelist group &'// &
+                                trim(name)//suggestion(name)//'; known groups: '//group_list(), 2)
+                  end if
+               end if
+               i = k
+               cycle
+            end if
+            i = i + 1
+         end do
+      end do
+      close (u)
+   end subroutine scan_groups
+
+   function group_list() result(s)
+      character(len=:), allocatable :: s
+      integer :: i
+      s = ''
+      do i = 1, size(known_groups)
+         s = s//'&'//trim(known_groups(i))
+         if (i < size(known_groups)) s = s//' '
+      end do
+   end function group_list
+
+   !> ' (did you mean &x?)' for the known group closest in spelling.
+   function suggestion(name) result(s)
+      character(len=*), intent(in) :: name
+      character(len=:), allocatable :: s
+      integer :: i, d, best, bi
+      best = huge(1)
+      bi = 0
+      do i = 1, size(known_groups)
+         d = edit_distance(trim(name), trim(known_groups(i)))
+         if (d < best) then
+            best = d
+            bi = i
+         end if
+      end do
+      if (bi > 0 .and. best <= 3) then
+         s = ' (did you mean &'//trim(known_groups(bi))//'?)'
+      else
+         s = ''
+      end if
+   end function suggestion
+
+   pure integer function edit_distance(a, b) result(d)
+      character(len=*), intent(in) :: a, b
+      integer :: t(0:len(a), 0:len(b)), i, j, c
+      do i = 0, len(a)
+         t(i, 0) = i
+      end do
+      do j = 0, len(b)
+         t(0, j) = j
+      end do
+      do j = 1, len(b)
+         do i = 1, len(a)
+            c = merge(0, 1, a(i:i) == b(j:j))
+            t(i, j) = min(t(i - 1, j) + 1, t(i, j - 1) + 1, t(i - 1, j - 1) + c)
+         end do
+      end do
+      d = t(len(a), len(b))
+   end function edit_distance
+
+   !> How many times a group appears in the file (case-insensitive).
+   integer function group_count(file, group) result(n)
+      character(len=*), intent(in) :: file, group
+      integer :: u, ios, i, k
+      character(len=4096) :: buf
+      character(len=4096) :: low
+      u = open_case(file)
+      n = 0
+      do
+         read (u, '(a)', iostat=ios) buf
+         if (ios /= 0) exit
+         low = lower(buf)
+         k = index(low, '!')
+         if (k > 0) low(k:) = ' '
+         i = 1
+         do
+            k = index(low(i:), '&'//trim(group))
+            if (k == 0) exit
+            i = i + k - 1 + len_trim(group) + 1
+            if (i > len(low)) then
+               n = n + 1
+               exit
+            end if
+            if (verify(low(i:i), 'abcdefghijklmnopqrstuvwxyz0123456789_') /= 0) n = n + 1
+         end do
+      end do
+      close (u)
+   end function group_count
+
+   !> Report a failed namelist read. Returns .false. at a clean end of file.
+   logical function read_failed(file, group, ios, msg) result(failed)
+      character(len=*), intent(in) :: file, group, msg
+      integer, intent(in) :: ios
+      integer :: k
+      failed = .false.
+      if (ios == 0) return
+      if (is_iostat_end(ios)) return
+      failed = .true.
+      k = index(msg, 'Cannot match namelist object name')
+      if (k > 0) then
+         call input_error(file, group, adjustl(trim(msg(k + 33:))), &
+                          'unknown variable in this group (see doc/input.md for the variables of &'//trim(group)//')')
+      else
+         call input_error(file, group, '', 'cannot read the group: '//trim(msg))
+      end if
+   end function read_failed
+
+   !> Stop unless lo <= x <= hi (bounds open where lo_open / hi_open are set).
+   subroutine check_real(file, group, var, x, lo, hi, lo_open, hi_open)
+      character(len=*), intent(in) :: file, group, var
+      real(rp), intent(in) :: x, lo, hi
+      logical, intent(in), optional :: lo_open, hi_open
+      logical :: lopen, hopen, ok
+      character(len=:), allocatable :: range
+      lopen = .false.
+      hopen = .false.
+      if (present(lo_open)) lopen = lo_open
+      if (present(hi_open)) hopen = hi_open
+      ok = .not. ieee_is_nan(x)
+      if (lopen) then
+         ok = ok .and. x > lo
+      else
+         ok = ok .and. x >= lo
+      end if
+      if (hopen) then
+         ok = ok .and. x < hi
+      else
+         ok = ok .and. x <= hi
+      end if
+      if (.not. ok) then
+         range = merge('(', '[', lopen)//real_str(lo)//', '//real_str(hi)//merge(')', ']', hopen)
+         if (hi >= huge(1.0_rp)) range = merge('(', '[', lopen)//real_str(lo)//', infinity)'
+         call input_error(file, group, var, 'value '//real_str(x)//' is out of the allowed range '//range)
+      end if
+   end subroutine check_real
+
+   subroutine check_int(file, group, var, i, lo, hi)
+      character(len=*), intent(in) :: file, group, var
+      integer, intent(in) :: i, lo, hi
+      if (i < lo .or. i > hi) call input_error(file, group, var, 'value '//int_str(i)// &
+                                               ' is out of the allowed range ['//int_str(lo)//', '//int_str(hi)//']')
+   end subroutine check_int
+
+   !> Stop unless value is one of choices (case-insensitive); returns it lower-cased.
+   subroutine check_choice(file, group, var, value, choices)
+      character(len=*), intent(in) :: file, group, var
+      character(len=*), intent(inout) :: value
+      character(len=*), intent(in) :: choices(:)
+      integer :: i
+      character(len=:), allocatable :: list
+      value = lower(adjustl(value))
+      if (any(choices == value)) return
+      list = ''
+      do i = 1, size(choices)
+         list = list//"'"//trim(choices(i))//"'"
+         if (i < size(choices)) list = list//', '
+      end do
+      call input_error(file, group, var, "value '"//trim(value)//"' is not one of "//list)
+   end subroutine check_choice
+end module input_check

@@ -1,0 +1,47 @@
+!> &domain: the box particles live in; a fluid particle that leaves it is removed.
+module input_domain
+   use kinds, only: rp
+   use constants, only: msg_len
+   use input_check, only: open_case, read_failed, group_count, real_str
+   use errors, only: input_error
+   implicit none
+   private
+   public :: domain_cfg, read_domain, write_domain
+
+   type :: domain_cfg
+      real(rp) :: xmin = 0.0_rp, xmax = -1.0_rp   !< [m]; xmax > xmin required
+      real(rp) :: ymin = 0.0_rp, ymax = -1.0_rp   !< [m]; ymax > ymin required
+   end type domain_cfg
+
+   real(rp) :: xmin, xmax, ymin, ymax
+   namelist /domain/ xmin, xmax, ymin, ymax
+
+contains
+
+   subroutine read_domain(file, c)
+      character(len=*), intent(in) :: file
+      type(domain_cfg), intent(out) :: c
+      integer :: u, ios
+      character(len=msg_len) :: msg
+      type(domain_cfg) :: d
+      if (group_count(file, 'domain') == 0) call input_error(file, 'domain', '', 'required group is missing')
+      if (group_count(file, 'domain') > 1) call input_error(file, 'domain', '', 'group appears more than once')
+      xmin = d%xmin; xmax = d%xmax; ymin = d%ymin; ymax = d%ymax
+      u = open_case(file)
+      read (u, nml=domain, iostat=ios, iomsg=msg)
+      close (u)
+      if (read_failed(file, 'domain', ios, msg)) return
+      c%xmin = xmin; c%xmax = xmax; c%ymin = ymin; c%ymax = ymax
+      if (.not. (xmax > xmin)) call input_error(file, 'domain', 'xmax', 'must be greater than xmin = ' &
+                                                //real_str(xmin)//' (got '//real_str(xmax)//')')
+      if (.not. (ymax > ymin)) call input_error(file, 'domain', 'ymax', 'must be greater than ymin = ' &
+                                                //real_str(ymin)//' (got '//real_str(ymax)//')')
+   end subroutine read_domain
+
+   subroutine write_domain(u, c)
+      integer, intent(in) :: u
+      type(domain_cfg), intent(in) :: c
+      xmin = c%xmin; xmax = c%xmax; ymin = c%ymin; ymax = c%ymax
+      write (u, nml=domain)
+   end subroutine write_domain
+end module input_domain

@@ -1,0 +1,174 @@
+!> Geometry groups, each repeatable: &box, &polygon, &slope. Every object
+!> becomes a polygon with a role (solid wall or fluid) and a motion.
+module input_geometry
+   use kinds, only: rp
+   use constants, only: name_len, msg_len
+   use input_check, only: open_case, read_failed, check_real, check_int, check_choice, &
+                          group_count, int_str, real_str
+   use errors, only: input_error
+   use geom, only: polygon_area, polygon_self_intersects
+   implicit none
+   private
+   public :: geom_object, read_geometry, write_geometry, max_vert
+
+   integer, parameter :: max_vert = 100
+
+   type :: geom_object
+      character(len=name_len) :: group = ''         !< 'box' | 'polygon' | 'slope'
+      integer :: index = 0                          !< 1 for the first group of its name, ...
+      character(len=name_len) :: role = 'solid'     !< 'solid' | 'fluid'
+      character(len=name_len) :: motion = 'fixed'   !< 'fixed' | 'oscillate'
+      real(rp) :: amplitude(2) = 0.0_rp             !< oscillation amplitude [m]
+      real(rp) :: period = 1.0_rp                   !< oscillation period [s]
+      integer :: nv = 0
+      real(rp), allocatable :: v(:, :)              !< outline vertices (2, nv), counter-clockwise
+      ! input values kept for the effective namelist
+      real(rp) :: box(4) = 0.0_rp                   !< xmin, xmax, ymin, ymax
+      real(rp) :: line(4) = 0.0_rp                  !< slope x0, y0, x1, y1
+      integer :: layers = 0                         !< slope thickness in particle rows
+   end type geom_object
+
+   ! &box
+   character(len=name_len) :: role, motion
+   real(rp) :: xmin, xmax, ymin, ymax, amplitude(2), period
+   namelist /box/ role, xmin, xmax, ymin, ymax, motion, amplitude, period
+   ! &polygon
+   integer :: nvert
+   real(rp) :: x(max_vert), y(max_vert)
+   namelist /polygon/ role, nvert, x, y, motion, amplitude, period
+   ! &slope
+   real(rp) :: x0, y0, x1, y1
+   integer :: layers
+   namelist /slope/ x0, y0, x1, y1, layers
+
+contains
+
+   subroutine defaults()
+      type(geom_object) :: d
+      role = d%role; motion = d%motion; amplitude = d%amplitude; period = d%period
+      xmin = 0.0_rp; xmax = 0.0_rp; ymin = 0.0_rp; ymax = 0.0_rp
+      nvert = 0; x = 0.0_rp; y = 0.0_rp
+      x0 = 0.0_rp; y0 = 0.0_rp; x1 = 0.0_rp; y1 = 0.0_rp; layers = 0
+   end subroutine defaults
+
+   !> Read every geometry group. dp fixes the default slope thickness.
+   subroutine read_geometry(file, dp, h, objs)
+      character(len=*), intent(in) :: file
+      real(rp), intent(in) :: dp, h
+      type(geom_object), allocatable, intent(out) :: objs(:)
+      integer :: nbox, npoly, nslope, u, ios, k, n
+      character(len=msg_len) :: msg
+      character(len=:), allocatable :: g
+      nbox = group_count(file, 'box')
+      npoly = group_count(file, 'polygon')
+      nslope = group_count(file, 'slope')
+      allocate (objs(nbox + npoly + nslope))
+      n = 0
+      u = open_case(file)
+      do k = 1, nbox
+         call defaults()
+         read (u, nml=box, iostat=ios, iomsg=msg)
+         if (read_failed(file, 'box', ios, msg)) return
+         n = n + 1
+         g = 'box #'//int_str(k)
+         if (.not. (xmax > xmin)) call input_error(file, g, 'xmax', 'must be greater than xmin = '// &
+                                                   real_str(xmin)//' (got '//real_str(xmax)//')')
+         if (.not. (ymax > ymin)) call input_error(file, g, 'ymax', 'must be greater than ymin = '// &
+                                                   real_str(ymin)//' (got '//real_str(ymax)//')')
+         objs(n)%group = 'box'
+         objs(n)%index = k
+         objs(n)%box = [xmin, xmax, ymin, ymax]
+         objs(n)%nv = 4
+         objs(n)%v = reshape([xmin, ymin, xmax, ymin, xmax, ymax, xmin, ymax], [2, 4])
+         call set_common(objs(n), g)
+      end do
+      rewind (u)
+      do k = 1, npoly
+         call defaults()
+         read (u, nml=polygon, iostat=ios, iomsg=msg)
+         if (read_failed(file, 'polygon', ios, msg)) return
+         n = n + 1
+         g = 'polygon #'//int_str(k)
+         call check_int(file, g, 'nvert', nvert, 3, max_vert)
+         objs(n)%group = 'polygon'
+         objs(n)%index = k
+         objs(n)%nv = nvert
+         allocate (objs(n)%v(2, nvert))
+         objs(n)%v(1, :) = x(1:nvert)
+         objs(n)%v(2, :) = y(1:nvert)
+         if (abs(polygon_area(objs(n)%v)) < 1.0e-12_rp*maxval(abs(objs(n)%v))**2) &
+            call input_error(file, g, 'x, y', 'the polygon has zero area')
+         if (polygon_self_intersects(objs(n)%v)) call input_error(file, g, 'x, y', 'the outline crosses itself')
+         if (polygon_area(objs(n)%v) < 0.0_rp) objs(n)%v = objs(n)%v(:, nvert:1:-1)
+         call set_common(objs(n), g)
+      end do
+      rewind (u)
+      do k = 1, nslope
+         call defaults()
+         read (u, nml=slope, iostat=ios, iomsg=msg)
+         if (read_failed(file, 'slope', ios, msg)) return
+         n = n + 1
+         g = 'slope #'//int_str(k)
+         call check_int(file, g, 'layers', layers, 0, 100)
+         if (layers == 0) layers = max(1, ceiling(2.0_rp*h/dp - 1.0e-9_rp))
+         if (.not. (x1 > x0)) call input_error(file, g, 'x1', 'must be greater than x0 = '//real_str(x0)// &
+                                               ' (the solid lies below the line from (x0,y0) to (x1,y1))')
+         if (hypot(x1 - x0, y1 - y0) < dp) call input_error(file, g, 'x1, y1', 'the slope is shorter than dp')
+         objs(n)%group = 'slope'
+         objs(n)%index = k
+         objs(n)%role = 'solid'
+         objs(n)%line = [x0, y0, x1, y1]
+         objs(n)%layers = layers
+         objs(n)%nv = 4
+         block
+            real(rp) :: t(2), nrm(2), thick
+            t = [x1 - x0, y1 - y0]/hypot(x1 - x0, y1 - y0)
+            nrm = [-t(2), t(1)]                      ! points up since x1 > x0
+            thick = layers*dp
+            objs(n)%v = reshape([x0 - thick*nrm(1), y0 - thick*nrm(2), x1 - thick*nrm(1), y1 - thick*nrm(2), &
+                                 x1, y1, x0, y0], [2, 4])
+         end block
+      end do
+      close (u)
+   contains
+      subroutine set_common(o, gname)
+         type(geom_object), intent(inout) :: o
+         character(len=*), intent(in) :: gname
+         o%role = role
+         o%motion = motion
+         o%amplitude = amplitude
+         o%period = period
+         call check_choice(file, gname, 'role', o%role, [character(len=name_len) :: 'solid', 'fluid'])
+         call check_choice(file, gname, 'motion', o%motion, [character(len=name_len) :: 'fixed', 'oscillate'])
+         if (o%motion == 'oscillate') then
+            if (o%role == 'fluid') call input_error(file, gname, 'motion', "only a solid can move (role = 'solid')")
+            call check_real(file, gname, 'period', o%period, 0.0_rp, 1.0e6_rp, lo_open=.true.)
+         end if
+      end subroutine set_common
+   end subroutine read_geometry
+
+   subroutine write_geometry(u, objs)
+      integer, intent(in) :: u
+      type(geom_object), intent(in) :: objs(:)
+      integer :: k
+      do k = 1, size(objs)
+         call defaults()
+         role = objs(k)%role; motion = objs(k)%motion
+         amplitude = objs(k)%amplitude; period = objs(k)%period
+         select case (objs(k)%group)
+         case ('box')
+            xmin = objs(k)%box(1); xmax = objs(k)%box(2); ymin = objs(k)%box(3); ymax = objs(k)%box(4)
+            write (u, nml=box)
+         case ('polygon')
+            nvert = objs(k)%nv
+            x(1:nvert) = objs(k)%v(1, :)
+            y(1:nvert) = objs(k)%v(2, :)
+            write (u, nml=polygon)
+         case ('slope')
+            x0 = objs(k)%line(1); y0 = objs(k)%line(2); x1 = objs(k)%line(3); y1 = objs(k)%line(4)
+            layers = objs(k)%layers
+            write (u, nml=slope)
+         end select
+      end do
+   end subroutine write_geometry
+end module input_geometry

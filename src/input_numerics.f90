@@ -1,0 +1,97 @@
+!> &numerics: resolution, kernel, time stepping and the optional models.
+module input_numerics
+   use kinds, only: rp
+   use constants, only: name_len, msg_len
+   use input_check, only: open_case, read_failed, check_real, check_int, check_choice, group_count
+   use errors, only: input_error
+   implicit none
+   private
+   public :: numerics_cfg, read_numerics, write_numerics
+
+   type :: numerics_cfg
+      real(rp) :: dp = -huge(1.0_rp)                          !< particle spacing [m], required
+      real(rp) :: h_over_dp = 1.4142135623730951_rp      !< smoothing length / dp [-]
+      character(len=name_len) :: kernel = 'wendland'     !< 'wendland' | 'cubic'
+      real(rp) :: cfl = 0.2_rp                           !< Courant number [-]
+      character(len=name_len) :: integrator = 'symplectic' !< 'symplectic' | 'predictor_corrector' | 'verlet'
+      integer :: verlet_every = 40                       !< Verlet: an Euler step every N steps
+      character(len=name_len) :: viscosity = 'artificial' !< 'artificial' | 'laminar_sps'
+      real(rp) :: alpha = 0.01_rp                        !< artificial viscosity coefficient [-]
+      real(rp) :: nu = 1.0e-6_rp                         !< kinematic viscosity (laminar) [m2/s]
+      real(rp) :: cs_sps = 0.12_rp                       !< Smagorinsky constant (SPS) [-]
+      real(rp) :: ci_sps = 0.0066_rp                     !< Blin constant (SPS) [-]
+      character(len=name_len) :: diffusion = 'fourtakas' !< 'none' | 'molteni' | 'fourtakas'
+      real(rp) :: delta = 0.1_rp                         !< density diffusion coefficient [-]
+      character(len=name_len) :: kernel_correction = 'none' !< 'none' | 'gradient' | 'shepard'
+      integer :: shepard_every = 30                      !< Shepard density filter every N steps
+   end type numerics_cfg
+
+   real(rp) :: dp, h_over_dp, cfl, alpha, nu, cs_sps, ci_sps, delta
+   character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction
+   integer :: verlet_every, shepard_every
+   namelist /numerics/ dp, h_over_dp, kernel, cfl, integrator, verlet_every, viscosity, alpha, &
+      nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every
+
+contains
+
+   subroutine to_vars(c)
+      type(numerics_cfg), intent(in) :: c
+      dp = c%dp; h_over_dp = c%h_over_dp; kernel = c%kernel; cfl = c%cfl
+      integrator = c%integrator; verlet_every = c%verlet_every; viscosity = c%viscosity
+      alpha = c%alpha; nu = c%nu; cs_sps = c%cs_sps; ci_sps = c%ci_sps
+      diffusion = c%diffusion; delta = c%delta; kernel_correction = c%kernel_correction
+      shepard_every = c%shepard_every
+   end subroutine to_vars
+
+   subroutine from_vars(c)
+      type(numerics_cfg), intent(out) :: c
+      c%dp = dp; c%h_over_dp = h_over_dp; c%kernel = kernel; c%cfl = cfl
+      c%integrator = integrator; c%verlet_every = verlet_every; c%viscosity = viscosity
+      c%alpha = alpha; c%nu = nu; c%cs_sps = cs_sps; c%ci_sps = ci_sps
+      c%diffusion = diffusion; c%delta = delta; c%kernel_correction = kernel_correction
+      c%shepard_every = shepard_every
+   end subroutine from_vars
+
+   subroutine read_numerics(file, c)
+      character(len=*), intent(in) :: file
+      type(numerics_cfg), intent(out) :: c
+      integer :: u, ios
+      character(len=msg_len) :: msg
+      type(numerics_cfg) :: d
+      if (group_count(file, 'numerics') == 0) call input_error(file, 'numerics', '', 'required group is missing')
+      if (group_count(file, 'numerics') > 1) call input_error(file, 'numerics', '', 'group appears more than once')
+      call to_vars(d)
+      u = open_case(file)
+      read (u, nml=numerics, iostat=ios, iomsg=msg)
+      close (u)
+      if (read_failed(file, 'numerics', ios, msg)) return
+      call from_vars(c)
+      if (c%dp <= d%dp) call input_error(file, 'numerics', 'dp', 'is required (particle spacing in m, > 0)')
+      call check_real(file, 'numerics', 'dp', c%dp, 0.0_rp, 1.0e3_rp, lo_open=.true.)
+      call check_real(file, 'numerics', 'h_over_dp', c%h_over_dp, 1.0_rp, 2.0_rp)
+      call check_choice(file, 'numerics', 'kernel', c%kernel, [character(len=name_len) :: 'wendland', 'cubic'])
+      call check_real(file, 'numerics', 'cfl', c%cfl, 0.0_rp, 0.5_rp, lo_open=.true.)
+      call check_choice(file, 'numerics', 'integrator', c%integrator, &
+                        [character(len=name_len) :: 'symplectic', 'predictor_corrector', 'verlet'])
+      call check_int(file, 'numerics', 'verlet_every', c%verlet_every, 1, 1000)
+      call check_choice(file, 'numerics', 'viscosity', c%viscosity, &
+                        [character(len=name_len) :: 'artificial', 'laminar_sps'])
+      call check_real(file, 'numerics', 'alpha', c%alpha, 0.0_rp, 1.0_rp)
+      call check_real(file, 'numerics', 'nu', c%nu, 0.0_rp, 1.0_rp)
+      call check_real(file, 'numerics', 'cs_sps', c%cs_sps, 0.0_rp, 1.0_rp)
+      call check_real(file, 'numerics', 'ci_sps', c%ci_sps, 0.0_rp, 1.0_rp)
+      call check_choice(file, 'numerics', 'diffusion', c%diffusion, &
+                        [character(len=name_len) :: 'none', 'molteni', 'fourtakas'])
+      call check_real(file, 'numerics', 'delta', c%delta, 0.0_rp, 1.0_rp)
+      call check_choice(file, 'numerics', 'kernel_correction', c%kernel_correction, &
+                        [character(len=name_len) :: 'none', 'gradient', 'shepard'])
+      call check_int(file, 'numerics', 'shepard_every', c%shepard_every, 1, 100000)
+   end subroutine read_numerics
+
+   subroutine write_numerics(u, c)
+      integer, intent(in) :: u
+      type(numerics_cfg), intent(in) :: c
+      call to_vars(c)
+      write (u, nml=numerics)
+   end subroutine write_numerics
+end module input_numerics

@@ -1,0 +1,92 @@
+!> Checkpoint: the whole state, in memory order, so that a restart repeats
+!> the uninterrupted run bit for bit. Written to a temporary file, then
+!> renamed over the old checkpoint.
+module io_checkpoint
+   use kinds, only: rp
+   use particles, only: particles_t, particles_alloc
+   use run_state, only: state_t
+   use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_read, h5_attr_write, &
+                      h5_attr_read, h5_length, file_rename
+   implicit none
+   private
+   public :: checkpoint_write, checkpoint_read
+
+contains
+
+   subroutine checkpoint_write(out_dir, p, st)
+      character(len=*), intent(in) :: out_dir
+      type(particles_t), intent(in) :: p
+      type(state_t), intent(in) :: st
+      integer(hid_t) :: f
+      character(len=:), allocatable :: path
+      integer :: n
+      n = p%n
+      path = trim(out_dir)//'/checkpoint.h5'
+      f = h5_create(path//'.tmp')
+      call h5_write(f, 'x', p%x(:, 1:n))
+      call h5_write(f, 'v', p%v(:, 1:n))
+      call h5_write(f, 'rho', p%rho(1:n))
+      call h5_write(f, 'p', p%p(1:n))
+      call h5_write(f, 'mass', p%mass(1:n))
+      call h5_write(f, 'nrm', p%nrm(:, 1:n))
+      call h5_write(f, 'xb', p%xb(:, 1:n))
+      call h5_write(f, 'vm1', p%vm1(:, 1:n))
+      call h5_write(f, 'rhom1', p%rhom1(1:n))
+      call h5_write(f, 'kind', p%kind(1:n))
+      call h5_write(f, 'body', p%body(1:n))
+      call h5_write(f, 'id', p%id(1:n))
+      call h5_attr_write(f, 'n_id', p%n_id)
+      call h5_attr_write(f, 't', st%t)
+      call h5_attr_write(f, 'dt', st%dt)
+      call h5_attr_write(f, 'istep', st%istep)
+      call h5_attr_write(f, 'isnap', st%isnap)
+      call h5_attr_write(f, 'ienergy', st%ienergy)
+      call h5_attr_write(f, 't_next_snap', st%t_next_snap)
+      call h5_attr_write(f, 't_next_energy', st%t_next_energy)
+      call h5_attr_write(f, 'lost_domain', st%lost_domain)
+      call h5_attr_write(f, 'lost_density', st%lost_density)
+      call h5_attr_write(f, 'n_fluid0', st%n_fluid0)
+      call h5_attr_write(f, 'h_swl', st%h_swl)
+      call h5_attr_write(f, 'y_surface', st%y_surface)
+      call h5_close(f)
+      call file_rename(path//'.tmp', path)
+   end subroutine checkpoint_write
+
+   subroutine checkpoint_read(out_dir, p, st)
+      character(len=*), intent(in) :: out_dir
+      type(particles_t), intent(inout) :: p
+      type(state_t), intent(inout) :: st
+      integer(hid_t) :: f
+      integer :: n
+      f = h5_open_read(trim(out_dir)//'/checkpoint.h5')
+      n = h5_length(f, 'rho')
+      call particles_alloc(p, n)
+      p%n = n
+      call h5_read(f, 'x', p%x)
+      call h5_read(f, 'v', p%v)
+      call h5_read(f, 'rho', p%rho)
+      call h5_read(f, 'p', p%p)
+      call h5_read(f, 'mass', p%mass)
+      call h5_read(f, 'nrm', p%nrm)
+      call h5_read(f, 'xb', p%xb)
+      call h5_read(f, 'vm1', p%vm1)
+      call h5_read(f, 'rhom1', p%rhom1)
+      call h5_read(f, 'kind', p%kind)
+      call h5_read(f, 'body', p%body)
+      call h5_read(f, 'id', p%id)
+      call h5_attr_read(f, 'n_id', p%n_id)
+      call h5_attr_read(f, 't', st%t)
+      call h5_attr_read(f, 'dt', st%dt)
+      call h5_attr_read(f, 'istep', st%istep)
+      call h5_attr_read(f, 'isnap', st%isnap)
+      call h5_attr_read(f, 'ienergy', st%ienergy)
+      call h5_attr_read(f, 't_next_snap', st%t_next_snap)
+      call h5_attr_read(f, 't_next_energy', st%t_next_energy)
+      call h5_attr_read(f, 'lost_domain', st%lost_domain)
+      call h5_attr_read(f, 'lost_density', st%lost_density)
+      call h5_attr_read(f, 'n_fluid0', st%n_fluid0)
+      call h5_attr_read(f, 'h_swl', st%h_swl)
+      call h5_attr_read(f, 'y_surface', st%y_surface)
+      call h5_close(f)
+   end subroutine checkpoint_read
+end module io_checkpoint

@@ -1,0 +1,150 @@
+!> The output folder: refuse to overwrite a run unless asked, create it,
+!> and keep energy.csv consistent with a restart.
+module io_files
+   use kinds, only: rp
+   use constants, only: path_len
+   use errors, only: input_error, fatal
+   use input_check, only: int_str
+   implicit none
+   private
+   public :: outdir_prepare, file_exists, file_text, snap_name, energy_open, energy_row, energy_close
+
+   integer :: energy_unit = -1
+
+contains
+
+   logical function file_exists(path)
+      character(len=*), intent(in) :: path
+      inquire (file=trim(path), exist=file_exists)
+   end function file_exists
+
+   !> OUT/snap_NNNNN.h5
+   function snap_name(out_dir, k) result(s)
+      character(len=*), intent(in) :: out_dir
+      integer, intent(in) :: k
+      character(len=:), allocatable :: s
+      character(len=16) :: b
+      write (b, '(i5.5)') k
+      s = trim(out_dir)//'/snap_'//trim(b)//'.h5'
+   end function snap_name
+
+   subroutine delete_file(path)
+      character(len=*), intent(in) :: path
+      integer :: u, ios
+      if (.not. file_exists(path)) return
+      open (newunit=u, file=trim(path), status='old', iostat=ios)
+      if (ios == 0) close (u, status='delete')
+   end subroutine delete_file
+
+   !> Check and create the output folder. A folder that holds a run is only
+   !> reused with overwrite = .true. (its old output is deleted first) or
+   !> restart = .true. (it must hold a checkpoint).
+   subroutine outdir_prepare(case_file, out_dir, overwrite, restart)
+      character(len=*), intent(in) :: case_file, out_dir
+      logical, intent(in) :: overwrite, restart
+      character(len=path_len) :: d
+      integer :: k, stat
+      logical :: held(4), ok
+      d = out_dir
+      if (restart) then
+         if (.not. file_exists(trim(d)//'/checkpoint.h5')) call input_error(case_file, 'run', 'restart', &
+            'restart = .true. needs '//trim(d)//'/checkpoint.h5, which does not exist')
+         return
+      end if
+      held = [file_exists(trim(d)//'/case.nml'), file_exists(trim(d)//'/checkpoint.h5'), &
+              file_exists(snap_name(d, 0)), file_exists(trim(d)//'/energy.csv')]
+      if (any(held)) then
+         if (.not. overwrite) call input_error(case_file, 'run', 'out_dir', "the folder '"//trim(d)// &
+            "' already holds a run; set overwrite = .true. to replace it, restart = .true. to continue it,"// &
+            " or choose another out_dir")
+         k = 0
+         do while (file_exists(snap_name(d, k)))
+            call delete_file(snap_name(d, k))
+            k = k + 1
+         end do
+         call delete_file(trim(d)//'/checkpoint.h5')
+         call delete_file(trim(d)//'/energy.csv')
+         call delete_file(trim(d)//'/particles.xmf')
+         call delete_file(trim(d)//'/case.nml')
+         call delete_file(trim(d)//'/run.log')
+      end if
+      call execute_command_line('mkdir -p "'//trim(d)//'"', exitstat=stat)
+      ok = dir_writable(d)
+      if (stat /= 0 .or. .not. ok) call input_error(case_file, 'run', 'out_dir', &
+         "cannot create or write the folder '"//trim(d)//"'")
+   end subroutine outdir_prepare
+
+   logical function dir_writable(d)
+      character(len=*), intent(in) :: d
+      integer :: u, ios
+      open (newunit=u, file=trim(d)//'/.mbsph_write_test', status='replace', iostat=ios)
+      dir_writable = ios == 0
+      if (ios == 0) close (u, status='delete')
+   end function dir_writable
+
+   !> Whole text of a file, lines joined with newlines.
+   function file_text(path) result(s)
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable :: s
+      character(len=4096) :: line
+      integer :: u, ios
+      s = ''
+      open (newunit=u, file=trim(path), status='old', action='read', iostat=ios)
+      if (ios /= 0) return
+      do
+         read (u, '(a)', iostat=ios) line
+         if (ios /= 0) exit
+         s = s//trim(line)//new_line('a')
+      end do
+      close (u)
+   end function file_text
+
+   !> Open energy.csv: a new file, or on restart the old one cut back to the
+   !> rows written before the checkpoint (steps <= last_step).
+   subroutine energy_open(out_dir, restart, last_step)
+      character(len=*), intent(in) :: out_dir
+      logical, intent(in) :: restart
+      integer, intent(in) :: last_step
+      character(len=:), allocatable :: path, keep
+      character(len=4096) :: line
+      character(len=64) :: tok
+      integer :: u, ios, k, step
+      logical :: have
+      path = trim(out_dir)//'/energy.csv'
+      keep = ''
+      have = file_exists(path)
+      if (restart .and. have) then
+         open (newunit=u, file=path, status='old', action='read')
+         read (u, '(a)', iostat=ios) line          ! header
+         do
+            read (u, '(a)', iostat=ios) line
+            if (ios /= 0) exit
+            k = index(line, ',')
+            tok = line(k + 1:)
+            k = index(tok, ',')
+            read (tok(1:k - 1), *, iostat=ios) step
+            if (ios == 0 .and. step <= last_step) keep = keep//trim(line)//new_line('a')
+         end do
+         close (u)
+      end if
+      open (newunit=energy_unit, file=path, status='replace', action='write', iostat=ios)
+      if (ios /= 0) call fatal('cannot write '//path)
+      write (energy_unit, '(a)') 'time,step,kinetic,potential,total_mass,n_fluid,lost'
+      if (len(keep) > 0) write (energy_unit, '(a)', advance='no') keep
+      flush (energy_unit)
+   end subroutine energy_open
+
+   subroutine energy_row(t, istep, ekin, epot, mass, n_fluid, lost)
+      real(rp), intent(in) :: t, ekin, epot, mass
+      integer, intent(in) :: istep, n_fluid, lost
+      if (energy_unit < 0) return
+      write (energy_unit, '(es23.15e3,",",i0,3(",",es23.15e3),",",i0,",",i0)') t, istep, ekin, epot, mass, &
+         n_fluid, lost
+      flush (energy_unit)
+   end subroutine energy_row
+
+   subroutine energy_close()
+      if (energy_unit >= 0) close (energy_unit)
+      energy_unit = -1
+   end subroutine energy_close
+end module io_files

@@ -1,0 +1,268 @@
+!> Thin helpers over the HDF5 Fortran API: whole-array datasets and scalar
+!> attributes, with every error turned into a fatal message naming the file.
+module io_hdf5
+   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+   use kinds, only: rp
+   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5close_f, h5fcreate_f, h5fopen_f, h5fclose_f, &
+                   h5screate_simple_f, h5screate_f, h5sclose_f, h5dcreate_f, h5dopen_f, h5dclose_f, &
+                   h5dwrite_f, h5dread_f, h5dget_space_f, h5sget_simple_extent_dims_f, h5acreate_f, &
+                   h5aopen_f, h5aclose_f, h5awrite_f, h5aread_f, h5tcopy_f, h5tset_size_f, h5tclose_f, &
+                   h5aexists_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5S_SCALAR_F, H5T_NATIVE_DOUBLE, &
+                   H5T_NATIVE_INTEGER, H5T_FORTRAN_S1
+   use errors, only: fatal
+   implicit none
+   private
+   public :: hid_t, h5_start, h5_stop, h5_create, h5_open_read, h5_close, h5_write, h5_read, &
+             h5_attr_write, h5_attr_read, h5_length, file_rename
+
+   interface h5_write
+      module procedure write_r1, write_r2, write_i1
+   end interface h5_write
+   interface h5_read
+      module procedure read_r1, read_r2, read_i1
+   end interface h5_read
+   interface h5_attr_write
+      module procedure attr_write_r, attr_write_i, attr_write_s
+   end interface h5_attr_write
+   interface h5_attr_read
+      module procedure attr_read_r, attr_read_i
+   end interface h5_attr_read
+
+   interface
+      function c_rename(old, new) bind(C, name='rename') result(r)
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: old(*), new(*)
+         integer(c_int) :: r
+      end function c_rename
+   end interface
+
+   character(len=:), allocatable :: current   ! file being written, for messages
+
+contains
+
+   subroutine check(err, what)
+      integer, intent(in) :: err
+      character(len=*), intent(in) :: what
+      if (err < 0) call fatal('HDF5: '//what//' failed for '//current)
+   end subroutine check
+
+   subroutine h5_start()
+      integer :: err
+      call h5open_f(err)
+      if (err < 0) call fatal('HDF5: cannot initialise the library')
+   end subroutine h5_start
+
+   subroutine h5_stop()
+      integer :: err
+      call h5close_f(err)
+   end subroutine h5_stop
+
+   !> Rename a file (atomic on one file system).
+   subroutine file_rename(old, new)
+      character(len=*), intent(in) :: old, new
+      if (c_rename(trim(old)//c_null_char, trim(new)//c_null_char) /= 0) &
+         call fatal('cannot rename '//trim(old)//' to '//trim(new))
+   end subroutine file_rename
+
+   integer(hid_t) function h5_create(path) result(f)
+      character(len=*), intent(in) :: path
+      integer :: err
+      current = trim(path)
+      call h5fcreate_f(trim(path), H5F_ACC_TRUNC_F, f, err)
+      call check(err, 'create')
+   end function h5_create
+
+   integer(hid_t) function h5_open_read(path) result(f)
+      character(len=*), intent(in) :: path
+      integer :: err
+      logical :: exists
+      current = trim(path)
+      inquire (file=trim(path), exist=exists)
+      if (.not. exists) call fatal('file not found: '//trim(path))
+      call h5fopen_f(trim(path), H5F_ACC_RDONLY_F, f, err)
+      call check(err, 'open')
+   end function h5_open_read
+
+   subroutine h5_close(f)
+      integer(hid_t), intent(in) :: f
+      integer :: err
+      call h5fclose_f(f, err)
+      call check(err, 'close')
+   end subroutine h5_close
+
+   subroutine write_r1(f, name, a)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      real(rp), intent(in) :: a(:)
+      integer(hid_t) :: s, d
+      integer(hsize_t) :: dims(1)
+      integer :: err
+      dims = shape(a, kind=hsize_t)
+      call h5screate_simple_f(1, dims, s, err); call check(err, 'dataspace '//name)
+      call h5dcreate_f(f, name, H5T_NATIVE_DOUBLE, s, d, err); call check(err, 'dataset '//name)
+      call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err); call check(err, 'write '//name)
+      call h5dclose_f(d, err)
+      call h5sclose_f(s, err)
+   end subroutine write_r1
+
+   subroutine write_r2(f, name, a)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      real(rp), intent(in) :: a(:, :)
+      integer(hid_t) :: s, d
+      integer(hsize_t) :: dims(2)
+      integer :: err
+      dims = shape(a, kind=hsize_t)
+      call h5screate_simple_f(2, dims, s, err); call check(err, 'dataspace '//name)
+      call h5dcreate_f(f, name, H5T_NATIVE_DOUBLE, s, d, err); call check(err, 'dataset '//name)
+      call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err); call check(err, 'write '//name)
+      call h5dclose_f(d, err)
+      call h5sclose_f(s, err)
+   end subroutine write_r2
+
+   subroutine write_i1(f, name, a)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: a(:)
+      integer(hid_t) :: s, d
+      integer(hsize_t) :: dims(1)
+      integer :: err
+      dims = shape(a, kind=hsize_t)
+      call h5screate_simple_f(1, dims, s, err); call check(err, 'dataspace '//name)
+      call h5dcreate_f(f, name, H5T_NATIVE_INTEGER, s, d, err); call check(err, 'dataset '//name)
+      call h5dwrite_f(d, H5T_NATIVE_INTEGER, a, dims, err); call check(err, 'write '//name)
+      call h5dclose_f(d, err)
+      call h5sclose_f(s, err)
+   end subroutine write_i1
+
+   !> Number of elements along the last dimension of a dataset.
+   integer function h5_length(f, name) result(n)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      integer(hid_t) :: d, s
+      integer(hsize_t) :: dims(2), maxdims(2)
+      integer :: err, rank
+      call h5dopen_f(f, name, d, err); call check(err, 'open dataset '//name)
+      call h5dget_space_f(d, s, err)
+      dims = 0
+      call h5sget_simple_extent_dims_f(s, dims, maxdims, rank)
+      if (rank < 1) call fatal('HDF5: cannot read the size of '//name//' in '//current)
+      n = int(dims(rank))
+      call h5sclose_f(s, err)
+      call h5dclose_f(d, err)
+   end function h5_length
+
+   subroutine read_r1(f, name, a)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      real(rp), intent(out) :: a(:)
+      integer(hid_t) :: d
+      integer(hsize_t) :: dims(1)
+      integer :: err
+      dims = shape(a, kind=hsize_t)
+      call h5dopen_f(f, name, d, err); call check(err, 'open dataset '//name)
+      call h5dread_f(d, H5T_NATIVE_DOUBLE, a, dims, err); call check(err, 'read '//name)
+      call h5dclose_f(d, err)
+   end subroutine read_r1
+
+   subroutine read_r2(f, name, a)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      real(rp), intent(out) :: a(:, :)
+      integer(hid_t) :: d
+      integer(hsize_t) :: dims(2)
+      integer :: err
+      dims = shape(a, kind=hsize_t)
+      call h5dopen_f(f, name, d, err); call check(err, 'open dataset '//name)
+      call h5dread_f(d, H5T_NATIVE_DOUBLE, a, dims, err); call check(err, 'read '//name)
+      call h5dclose_f(d, err)
+   end subroutine read_r2
+
+   subroutine read_i1(f, name, a)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      integer, intent(out) :: a(:)
+      integer(hid_t) :: d
+      integer(hsize_t) :: dims(1)
+      integer :: err
+      dims = shape(a, kind=hsize_t)
+      call h5dopen_f(f, name, d, err); call check(err, 'open dataset '//name)
+      call h5dread_f(d, H5T_NATIVE_INTEGER, a, dims, err); call check(err, 'read '//name)
+      call h5dclose_f(d, err)
+   end subroutine read_i1
+
+   subroutine attr_write_r(f, name, x)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      real(rp), intent(in) :: x
+      integer(hid_t) :: s, a
+      integer :: err
+      integer(hsize_t), parameter :: one(1) = 1
+      call h5screate_f(H5S_SCALAR_F, s, err)
+      call h5acreate_f(f, name, H5T_NATIVE_DOUBLE, s, a, err); call check(err, 'attribute '//name)
+      call h5awrite_f(a, H5T_NATIVE_DOUBLE, x, one, err); call check(err, 'write attribute '//name)
+      call h5aclose_f(a, err)
+      call h5sclose_f(s, err)
+   end subroutine attr_write_r
+
+   subroutine attr_write_i(f, name, x)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: x
+      integer(hid_t) :: s, a
+      integer :: err
+      integer(hsize_t), parameter :: one(1) = 1
+      call h5screate_f(H5S_SCALAR_F, s, err)
+      call h5acreate_f(f, name, H5T_NATIVE_INTEGER, s, a, err); call check(err, 'attribute '//name)
+      call h5awrite_f(a, H5T_NATIVE_INTEGER, x, one, err); call check(err, 'write attribute '//name)
+      call h5aclose_f(a, err)
+      call h5sclose_f(s, err)
+   end subroutine attr_write_i
+
+   subroutine attr_write_s(f, name, x)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      character(len=*), intent(in) :: x
+      integer(hid_t) :: s, a, t
+      integer :: err
+      integer(hsize_t), parameter :: one(1) = 1
+      call h5tcopy_f(H5T_FORTRAN_S1, t, err)
+      call h5tset_size_f(t, int(max(len(x), 1), size_t), err)
+      call h5screate_f(H5S_SCALAR_F, s, err)
+      call h5acreate_f(f, name, t, s, a, err); call check(err, 'attribute '//name)
+      call h5awrite_f(a, t, x, one, err); call check(err, 'write attribute '//name)
+      call h5aclose_f(a, err)
+      call h5sclose_f(s, err)
+      call h5tclose_f(t, err)
+   end subroutine attr_write_s
+
+   subroutine attr_read_r(f, name, x)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      real(rp), intent(out) :: x
+      integer(hid_t) :: a
+      integer :: err
+      logical :: exists
+      integer(hsize_t), parameter :: one(1) = 1
+      call h5aexists_f(f, name, exists, err)
+      if (.not. exists) call fatal('HDF5: attribute '//name//' missing in '//current)
+      call h5aopen_f(f, name, a, err); call check(err, 'open attribute '//name)
+      call h5aread_f(a, H5T_NATIVE_DOUBLE, x, one, err); call check(err, 'read attribute '//name)
+      call h5aclose_f(a, err)
+   end subroutine attr_read_r
+
+   subroutine attr_read_i(f, name, x)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      integer, intent(out) :: x
+      integer(hid_t) :: a
+      integer :: err
+      logical :: exists
+      integer(hsize_t), parameter :: one(1) = 1
+      call h5aexists_f(f, name, exists, err)
+      if (.not. exists) call fatal('HDF5: attribute '//name//' missing in '//current)
+      call h5aopen_f(f, name, a, err); call check(err, 'open attribute '//name)
+      call h5aread_f(a, H5T_NATIVE_INTEGER, x, one, err); call check(err, 'read attribute '//name)
+      call h5aclose_f(a, err)
+   end subroutine attr_read_i
+end module io_hdf5

@@ -1,0 +1,169 @@
+!> Particle snapshots (HDF5, in global id order) and the XDMF index that
+!> lets ParaView open the whole series.
+module io_snapshot
+   use kinds, only: rp
+   use particles, only: particles_t
+   use params, only: params_t
+   use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_attr_write, h5_attr_read, &
+                      h5_length, file_rename
+   use io_files, only: snap_name, file_exists
+   use errors, only: fatal
+   implicit none
+   private
+   public :: snapshot_write, snapshot_index_rebuild
+
+   ! what the XDMF index lists
+   integer :: nlist = 0
+   real(rp), allocatable :: list_t(:)
+   integer, allocatable :: list_n(:)
+
+contains
+
+   !> Snapshot number k at time t.
+   subroutine snapshot_write(out_dir, k, p, prm, t, dt, istep, case_text)
+      character(len=*), intent(in) :: out_dir
+      integer, intent(in) :: k, istep
+      type(particles_t), intent(in) :: p
+      type(params_t), intent(in) :: prm
+      real(rp), intent(in) :: t, dt
+      character(len=*), intent(in) :: case_text
+      integer(hid_t) :: f
+      integer, allocatable :: ord(:), slot(:), conn(:)
+      integer :: i, n, m
+      n = p%n
+      ! order by global id: slot(id) = particle
+      allocate (slot(p%n_id), ord(n), conn(n))
+      slot = 0
+      do i = 1, n
+         slot(p%id(i)) = i
+      end do
+      m = 0
+      do i = 1, p%n_id
+         if (slot(i) > 0) then
+            m = m + 1
+            ord(m) = slot(i)
+         end if
+      end do
+      do i = 1, n
+         conn(i) = i - 1
+      end do
+      f = h5_create(snap_name(out_dir, k))
+      call h5_write(f, 'position', p%x(:, ord))
+      call h5_write(f, 'velocity', p%v(:, ord))
+      call h5_write(f, 'density', p%rho(ord))
+      call h5_write(f, 'pressure', p%p(ord))
+      call h5_write(f, 'mass', p%mass(ord))
+      call h5_write(f, 'kind', p%kind(ord))
+      call h5_write(f, 'body', p%body(ord))
+      call h5_write(f, 'id', p%id(ord))
+      call h5_write(f, 'connectivity', conn)
+      call h5_attr_write(f, 'time', t)
+      call h5_attr_write(f, 'dt', dt)
+      call h5_attr_write(f, 'step', istep)
+      call h5_attr_write(f, 'n_particles', n)
+      call h5_attr_write(f, 'dp', prm%dp)
+      call h5_attr_write(f, 'h', prm%h)
+      call h5_attr_write(f, 'rho0', prm%rho0)
+      call h5_attr_write(f, 'c0', prm%c0)
+      call h5_attr_write(f, 'gravity', prm%g)
+      call h5_attr_write(f, 'case_name', trim(prm%case_name))
+      call h5_attr_write(f, 'case_nml', case_text)
+      call h5_close(f)
+      call list_set(k, t, n)
+      call xdmf_write(out_dir)
+   end subroutine snapshot_write
+
+   subroutine list_set(k, t, n)
+      integer, intent(in) :: k, n
+      real(rp), intent(in) :: t
+      real(rp), allocatable :: tt(:)
+      integer, allocatable :: nn(:)
+      if (.not. allocated(list_t)) allocate (list_t(64), list_n(64))
+      if (k + 1 > size(list_t)) then
+         allocate (tt(2*(k + 1)), nn(2*(k + 1)))
+         tt(1:nlist) = list_t(1:nlist)
+         nn(1:nlist) = list_n(1:nlist)
+         call move_alloc(tt, list_t)
+         call move_alloc(nn, list_n)
+      end if
+      list_t(k + 1) = t
+      list_n(k + 1) = n
+      nlist = k + 1
+   end subroutine list_set
+
+   !> After a restart: list the snapshots 0 .. nsnap-1 already on disk.
+   subroutine snapshot_index_rebuild(out_dir, nsnap)
+      character(len=*), intent(in) :: out_dir
+      integer, intent(in) :: nsnap
+      integer :: k, n
+      integer(hid_t) :: f
+      real(rp) :: t
+      nlist = 0
+      do k = 0, nsnap - 1
+         if (.not. file_exists(snap_name(out_dir, k))) call fatal('restart: '//snap_name(out_dir, k)// &
+                                                                  ' is missing from the run being continued')
+         f = h5_open_read(snap_name(out_dir, k))
+         call h5_attr_read(f, 'time', t)
+         n = h5_length(f, 'density')
+         call h5_close(f)
+         call list_set(k, t, n)
+      end do
+   end subroutine snapshot_index_rebuild
+
+   !> particles.xmf: a temporal collection of polyvertex grids. Written to a
+   !> temporary file and renamed, so a reader never sees half a file.
+   subroutine xdmf_write(out_dir)
+      character(len=*), intent(in) :: out_dir
+      integer :: u, k, ios
+      character(len=:), allocatable :: path, snap
+      character(len=24) :: ns
+      path = trim(out_dir)//'/particles.xmf'
+      open (newunit=u, file=path//'.tmp', status='replace', action='write', iostat=ios)
+      if (ios /= 0) call fatal('cannot write '//path//'.tmp')
+      write (u, '(a)') '<?xml version="1.0" ?>'
+      write (u, '(a)') '<Xdmf Version="3.0">'
+      write (u, '(a)') ' <Domain>'
+      write (u, '(a)') '  <Grid Name="particles" GridType="Collection" CollectionType="Temporal">'
+      do k = 0, nlist - 1
+         snap = snap_name('', k)
+         snap = snap(2:)                              ! relative to the .xmf file
+         write (ns, '(i0)') list_n(k + 1)
+         write (u, '(a)') '   <Grid Name="'//snap(1:len(snap) - 3)//'" GridType="Uniform">'
+         write (u, '(a,es24.16e3,a)') '    <Time Value="', list_t(k + 1), '"/>'
+         write (u, '(a)') '    <Topology TopologyType="Polyvertex" NumberOfElements="'//trim(ns)// &
+            '" NodesPerElement="1">'
+         call item(u, ns, '', 'Int', '4', snap, 'connectivity')
+         write (u, '(a)') '    </Topology>'
+         write (u, '(a)') '    <Geometry GeometryType="XY">'
+         call item(u, ns, ' 2', 'Float', '8', snap, 'position')
+         write (u, '(a)') '    </Geometry>'
+         call attribute(u, 'velocity', 'Vector', ns, ' 2', 'Float', '8', snap)
+         call attribute(u, 'density', 'Scalar', ns, '', 'Float', '8', snap)
+         call attribute(u, 'pressure', 'Scalar', ns, '', 'Float', '8', snap)
+         call attribute(u, 'kind', 'Scalar', ns, '', 'Int', '4', snap)
+         call attribute(u, 'body', 'Scalar', ns, '', 'Int', '4', snap)
+         call attribute(u, 'id', 'Scalar', ns, '', 'Int', '4', snap)
+         write (u, '(a)') '   </Grid>'
+      end do
+      write (u, '(a)') '  </Grid>'
+      write (u, '(a)') ' </Domain>'
+      write (u, '(a)') '</Xdmf>'
+      close (u)
+      call file_rename(path//'.tmp', path)
+   end subroutine xdmf_write
+
+   subroutine item(u, ns, dim2, ntype, prec, snap, name)
+      integer, intent(in) :: u
+      character(len=*), intent(in) :: ns, dim2, ntype, prec, snap, name
+      write (u, '(a)') '     <DataItem Dimensions="'//trim(ns)//dim2//'" NumberType="'//ntype// &
+         '" Precision="'//prec//'" Format="HDF">'//snap//':/'//name//'</DataItem>'
+   end subroutine item
+
+   subroutine attribute(u, name, atype, ns, dim2, ntype, prec, snap)
+      integer, intent(in) :: u
+      character(len=*), intent(in) :: name, atype, ns, dim2, ntype, prec, snap
+      write (u, '(a)') '    <Attribute Name="'//name//'" AttributeType="'//atype//'" Center="Node">'
+      call item(u, ns, dim2, ntype, prec, snap, name)
+      write (u, '(a)') '    </Attribute>'
+   end subroutine attribute
+end module io_snapshot

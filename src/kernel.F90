@@ -1,0 +1,75 @@
+!> SPH kernels in 2D: Wendland C2 and cubic spline, with support 2h.
+!> The formulas themselves are in kernel_formulas.inc, shared with the pair loops.
+module kernel
+   use kinds, only: rp
+   use constants, only: pi
+   implicit none
+   private
+   public :: kernel_wendland, kernel_cubic, kernel_id, kernel_norm, kernel_w, kernel_f, kernel_gradw
+
+   integer, parameter :: kernel_wendland = 1, kernel_cubic = 2
+
+contains
+
+#include "kernel_formulas.inc"
+
+   !> Kernel number from its namelist name.
+   integer function kernel_id(name)
+      character(len=*), intent(in) :: name
+      select case (trim(name))
+      case ('cubic'); kernel_id = kernel_cubic
+      case default; kernel_id = kernel_wendland
+      end select
+   end function kernel_id
+
+   !> 2D normalisation aw (W = aw w(q)).
+   pure real(rp) function kernel_norm(k, h) result(aw)
+      integer, intent(in) :: k
+      real(rp), intent(in) :: h
+      if (k == kernel_cubic) then
+         aw = 10.0_rp/(7.0_rp*pi*h*h)
+      else
+         aw = 7.0_rp/(4.0_rp*pi*h*h)
+      end if
+   end function kernel_norm
+
+   !> W(r) for r >= 0.
+   elemental real(rp) function kernel_w(k, r, h) result(w)
+      integer, intent(in) :: k
+      real(rp), intent(in) :: r, h
+      real(rp) :: q
+      q = r/h
+      w = 0.0_rp
+      if (q >= 2.0_rp) return
+      if (k == kernel_cubic) then
+         w = kernel_norm(k, h)*KW_CUBIC(q)
+      else
+         w = kernel_norm(k, h)*KW_WENDLAND(q)
+      end if
+   end function kernel_w
+
+   !> F(r) with grad_i W = F (x_i - x_j); r > 0.
+   elemental real(rp) function kernel_f(k, r, h) result(f)
+      integer, intent(in) :: k
+      real(rp), intent(in) :: r, h
+      real(rp) :: q
+      q = r/h
+      f = 0.0_rp
+      if (q >= 2.0_rp) return
+      if (k == kernel_cubic) then
+         f = kernel_norm(k, h)/(h*h)*KF_CUBIC(q)
+      else
+         f = kernel_norm(k, h)/(h*h)*KF_WENDLAND(q)
+      end if
+   end function kernel_f
+
+   !> Gradient with respect to x_i of W(|x_i - x_j|), given d = x_i - x_j.
+   pure function kernel_gradw(k, d, h) result(g)
+      integer, intent(in) :: k
+      real(rp), intent(in) :: d(2), h
+      real(rp) :: g(2), r
+      r = norm2(d)
+      g = 0.0_rp
+      if (r > 0.0_rp) g = kernel_f(k, r, h)*d
+   end function kernel_gradw
+end module kernel

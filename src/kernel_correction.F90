@@ -1,0 +1,115 @@
+!> Kernel correction: the gradient correction matrices L_i (so that the
+!> corrected gradient L_i grad W_ij is exact for linear fields) and the
+!> Shepard density filter.
+module kernel_correction
+   use kinds, only: rp
+   use constants, only: kind_fluid
+   use params, only: params_t
+   use kernel, only: kernel_cubic
+   use grid, only: grid_t
+   use particles, only: particles_t
+   implicit none
+   private
+   public :: kgc_matrices, shepard_filter
+
+contains
+
+#include "kernel_formulas.inc"
+
+   !> L_i stored as (Lxx, Lxy, Lyy) in lm(:, i), for every particle; the
+   !> identity where the moment matrix is near-singular (free surface spray).
+   subroutine kgc_matrices(prm, g, p, lm)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      real(rp), intent(out) :: lm(:, :)
+      integer :: c, i, j, r, jlo(2), jhi(2)
+      real(rp) :: dx, dy, r2, q, fac, vi, vj, a11, a12, a22, det, hinv
+      hinv = 1.0_rp/prm%h
+      lm(:, 1:p%n) = 0.0_rp
+      ! B = sum_j V_j grad W_ij (x_j - x_i)^T = -sum_j V_j F r r^T (symmetric)
+      do c = 1, g%ncell - g%nx - 1
+         do i = g%cstart(c), g%cstart(c + 1) - 1
+            vi = p%mass(i)/p%rho(i)
+            jlo = [i + 1, g%cstart(c + g%nx - 1)]
+            jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
+            do r = 1, 2
+               do j = jlo(r), jhi(r)
+                  dx = p%x(1, i) - p%x(1, j)
+                  dy = p%x(2, i) - p%x(2, j)
+                  r2 = dx*dx + dy*dy
+                  if (r2 >= prm%support2) cycle
+                  q = sqrt(r2)*hinv
+                  if (prm%kernel == kernel_cubic) then
+                     fac = -prm%fw*KF_CUBIC(q)
+                  else
+                     fac = -prm%fw*KF_WENDLAND(q)
+                  end if
+                  vj = p%mass(j)/p%rho(j)
+                  lm(1, i) = lm(1, i) + vj*fac*dx*dx
+                  lm(2, i) = lm(2, i) + vj*fac*dx*dy
+                  lm(3, i) = lm(3, i) + vj*fac*dy*dy
+                  lm(1, j) = lm(1, j) + vi*fac*dx*dx
+                  lm(2, j) = lm(2, j) + vi*fac*dx*dy
+                  lm(3, j) = lm(3, j) + vi*fac*dy*dy
+               end do
+            end do
+         end do
+      end do
+      do i = 1, p%n
+         a11 = lm(1, i); a12 = lm(2, i); a22 = lm(3, i)
+         det = a11*a22 - a12*a12
+         ! a full support gives B = I; far from it the inverse amplifies noise
+         if (abs(det) > 0.25_rp) then
+            lm(:, i) = [a22, -a12, a11]/det
+         else
+            lm(:, i) = [1.0_rp, 0.0_rp, 1.0_rp]
+         end if
+      end do
+   end subroutine kgc_matrices
+
+   !> Shepard filter: rho_i = sum_j m_j W_ij / sum_j V_j W_ij over fluid
+   !> neighbours and itself, for fluid particles.
+   subroutine shepard_filter(prm, g, p, wsum, msum)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(inout) :: p
+      real(rp), intent(inout) :: wsum(:), msum(:)
+      integer :: c, i, j, r, jlo(2), jhi(2)
+      real(rp) :: dx, dy, r2, q, w, hinv
+      hinv = 1.0_rp/prm%h
+      do i = 1, p%n
+         msum(i) = p%mass(i)*prm%w0
+         wsum(i) = p%mass(i)/p%rho(i)*prm%w0
+      end do
+      do c = 1, g%ncell - g%nx - 1
+         do i = g%cstart(c), g%cstart(c + 1) - 1
+            if (p%kind(i) /= kind_fluid) cycle
+            jlo = [i + 1, g%cstart(c + g%nx - 1)]
+            jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
+            do r = 1, 2
+               do j = jlo(r), jhi(r)
+                  if (p%kind(j) /= kind_fluid) cycle
+                  dx = p%x(1, i) - p%x(1, j)
+                  dy = p%x(2, i) - p%x(2, j)
+                  r2 = dx*dx + dy*dy
+                  if (r2 >= prm%support2) cycle
+                  q = sqrt(r2)*hinv
+                  if (prm%kernel == kernel_cubic) then
+                     w = prm%aw*KW_CUBIC(q)
+                  else
+                     w = prm%aw*KW_WENDLAND(q)
+                  end if
+                  msum(i) = msum(i) + p%mass(j)*w
+                  wsum(i) = wsum(i) + p%mass(j)/p%rho(j)*w
+                  msum(j) = msum(j) + p%mass(i)*w
+                  wsum(j) = wsum(j) + p%mass(i)/p%rho(i)*w
+               end do
+            end do
+         end do
+      end do
+      do i = 1, p%n
+         if (p%kind(i) == kind_fluid) p%rho(i) = msum(i)/wsum(i)
+      end do
+   end subroutine shepard_filter
+end module kernel_correction

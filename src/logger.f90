@@ -1,0 +1,98 @@
+!> Screen and run.log output. Only rank 0 writes. The progress line is
+!> redrawn in place on a terminal and written as plain lines elsewhere.
+module logger
+   use, intrinsic :: iso_c_binding, only: c_int
+   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+   use comm, only: comm_rank
+   implicit none
+   private
+   public :: log_open, log_close, log_line, log_error, log_progress, log_is_open
+
+   integer :: log_unit = -1
+   logical :: tty = .false.
+   logical :: progress_pending = .false.   !< an in-place line is on the screen
+
+   interface
+      function c_isatty(fd) bind(C, name='isatty') result(r)
+         import :: c_int
+         integer(c_int), value :: fd
+         integer(c_int) :: r
+      end function c_isatty
+   end interface
+
+contains
+
+   !> Open (append) the run log; decide whether stdout is a terminal.
+   subroutine log_open(path, append)
+      character(len=*), intent(in) :: path
+      logical, intent(in) :: append
+      integer :: ios
+      if (comm_rank() /= 0) return
+      tty = c_isatty(1_c_int) == 1
+      if (append) then
+         open (newunit=log_unit, file=path, status='unknown', position='append', action='write', iostat=ios)
+      else
+         open (newunit=log_unit, file=path, status='replace', action='write', iostat=ios)
+      end if
+      if (ios /= 0) log_unit = -1
+   end subroutine log_open
+
+   logical function log_is_open()
+      log_is_open = log_unit >= 0
+   end function log_is_open
+
+   subroutine log_close()
+      if (log_unit >= 0) close (log_unit)
+      log_unit = -1
+   end subroutine log_close
+
+   subroutine end_progress()
+      if (progress_pending) then
+         write (output_unit, '(a)') ''
+         progress_pending = .false.
+      end if
+   end subroutine end_progress
+
+   !> A plain line on the screen and in run.log.
+   subroutine log_line(text)
+      character(len=*), intent(in) :: text
+      if (comm_rank() /= 0) return
+      call end_progress()
+      write (output_unit, '(a)') text
+      flush (output_unit)
+      if (log_unit >= 0) then
+         write (log_unit, '(a)') text
+         flush (log_unit)
+      end if
+   end subroutine log_line
+
+   !> An error: standard error and run.log, from any rank.
+   subroutine log_error(text)
+      character(len=*), intent(in) :: text
+      call end_progress()
+      write (error_unit, '(a)') text
+      flush (error_unit)
+      if (log_unit >= 0) then
+         write (log_unit, '(a)') text
+         flush (log_unit)
+      end if
+   end subroutine log_error
+
+   !> The progress line: redrawn in place on a terminal, a plain line otherwise.
+   subroutine log_progress(text)
+      character(len=*), intent(in) :: text
+      if (comm_rank() /= 0) return
+      if (tty) then
+         write (output_unit, '(a,a,a)', advance='no') achar(13), text, achar(27)//'[K'
+         flush (output_unit)
+         progress_pending = .true.
+      else
+         write (output_unit, '(a)') text
+         flush (output_unit)
+      end if
+      if (log_unit >= 0) then
+         write (log_unit, '(a)') text
+         flush (log_unit)
+      end if
+   end subroutine log_progress
+end module logger

@@ -1,0 +1,102 @@
+!> Derived numerical constants of a run, computed once from the input.
+module params
+   use kinds, only: rp
+   use constants, only: name_len
+   use input, only: case_cfg
+   use kernel, only: kernel_id, kernel_norm, kernel_wendland
+   implicit none
+   private
+   public :: params_t, params_init, visc_artificial, visc_laminar_sps, diff_none, diff_molteni, &
+             diff_fourtakas, kgc_none, kgc_gradient, kgc_shepard, integ_symplectic, &
+             integ_predictor_corrector, integ_verlet
+
+   integer, parameter :: visc_artificial = 1, visc_laminar_sps = 2
+   integer, parameter :: diff_none = 0, diff_molteni = 1, diff_fourtakas = 2
+   integer, parameter :: kgc_none = 0, kgc_gradient = 1, kgc_shepard = 2
+   integer, parameter :: integ_symplectic = 1, integ_predictor_corrector = 2, integ_verlet = 3
+
+   type :: params_t
+      real(rp) :: dp, h, h2, support2      !< spacing, smoothing length, h^2, (2h)^2
+      real(rp) :: eta2                     !< 0.01 h^2: keeps 1/r^2 terms finite
+      integer :: kernel = kernel_wendland
+      real(rp) :: aw, fw                   !< kernel normalisation aw and aw/h^2
+      real(rp) :: w0                       !< W(0)
+      real(rp) :: rho0, gamma, g, c0, b    !< Tait: p = b ((rho/rho0)^gamma - 1)
+      real(rp) :: h_swl, y_surface         !< still-water depth and surface level [m]
+      real(rp) :: rho_min, rho_max         !< removal limits [kg/m3]
+      real(rp) :: cfl
+      integer :: visc = visc_artificial
+      real(rp) :: alpha, nu, sps_smag, sps_blin
+      integer :: diffusion = diff_none
+      real(rp) :: delta_coef               !< delta h c0, the factor of the diffusion term
+      integer :: kgc = kgc_none
+      integer :: shepard_every
+      integer :: integrator = integ_symplectic
+      integer :: verlet_every
+      character(len=name_len) :: case_name
+   end type params_t
+
+contains
+
+   !> ybed and ytop bound the fluid (its lowest and highest particle edges);
+   !> they fix h_swl when the input leaves it at 0.
+   subroutine params_init(c, ybed, ytop, prm)
+      type(case_cfg), intent(in) :: c
+      real(rp), intent(in) :: ybed, ytop
+      type(params_t), intent(out) :: prm
+      prm%case_name = c%run%case_name
+      prm%dp = c%numerics%dp
+      prm%h = c%numerics%h_over_dp*prm%dp
+      prm%h2 = prm%h*prm%h
+      prm%support2 = 4.0_rp*prm%h2
+      prm%eta2 = 0.01_rp*prm%h2
+      prm%kernel = kernel_id(c%numerics%kernel)
+      prm%aw = kernel_norm(prm%kernel, prm%h)
+      prm%fw = prm%aw/prm%h2
+      prm%w0 = prm%aw                      ! both kernels have w(0) = 1
+      prm%rho0 = c%fluid%rho0
+      prm%gamma = c%fluid%gamma
+      prm%g = c%fluid%gravity
+      if (c%fluid%h_swl > 0.0_rp) then
+         prm%h_swl = c%fluid%h_swl
+         prm%y_surface = ybed + prm%h_swl
+      else if (ytop > ybed) then
+         prm%h_swl = ytop - ybed
+         prm%y_surface = ytop
+      else                                 ! no fluid: c0 still needs a depth scale
+         prm%h_swl = max(10.0_rp*prm%dp, 0.1_rp)
+         prm%y_surface = ybed
+      end if
+      prm%c0 = c%fluid%coef*sqrt(max(prm%g, 1.0e-3_rp)*prm%h_swl)
+      prm%b = prm%c0**2*prm%rho0/prm%gamma
+      prm%rho_min = c%fluid%rho_min*prm%rho0
+      prm%rho_max = c%fluid%rho_max*prm%rho0
+      prm%cfl = c%numerics%cfl
+      select case (trim(c%numerics%viscosity))
+      case ('laminar_sps'); prm%visc = visc_laminar_sps
+      case default; prm%visc = visc_artificial
+      end select
+      prm%alpha = c%numerics%alpha
+      prm%nu = c%numerics%nu
+      prm%sps_smag = (c%numerics%cs_sps*prm%dp)**2
+      prm%sps_blin = (2.0_rp/3.0_rp)*c%numerics%ci_sps*prm%dp**2
+      select case (trim(c%numerics%diffusion))
+      case ('molteni'); prm%diffusion = diff_molteni
+      case ('fourtakas'); prm%diffusion = diff_fourtakas
+      case default; prm%diffusion = diff_none
+      end select
+      prm%delta_coef = c%numerics%delta*prm%h*prm%c0
+      select case (trim(c%numerics%kernel_correction))
+      case ('gradient'); prm%kgc = kgc_gradient
+      case ('shepard'); prm%kgc = kgc_shepard
+      case default; prm%kgc = kgc_none
+      end select
+      prm%shepard_every = c%numerics%shepard_every
+      select case (trim(c%numerics%integrator))
+      case ('verlet'); prm%integrator = integ_verlet
+      case ('predictor_corrector'); prm%integrator = integ_predictor_corrector
+      case default; prm%integrator = integ_symplectic
+      end select
+      prm%verlet_every = c%numerics%verlet_every
+   end subroutine params_init
+end module params

@@ -1,0 +1,308 @@
+!> The run: set up (or restart), step until the end time, write output,
+!> report. The data flows one way: grid -> pair loop -> integration -> output.
+module solver
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
+   use kinds, only: rp, i8
+   use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_name
+   use input, only: case_cfg, write_case
+   use input_check, only: int_str, real_str
+   use particles, only: particles_t, particles_count_kind
+   use params, only: params_t, params_init, visc_artificial, diff_none, kgc_gradient, kgc_shepard, &
+                     integ_verlet
+   use scene, only: scene_build
+   use grid, only: grid_t, grid_init, grid_sort
+   use eos, only: eos_update
+   use fluid_forces, only: forces_work_t, forces_init
+   use kernel_correction, only: shepard_filter
+   use step, only: step_advance
+   use run_state, only: state_t
+   use io_hdf5, only: h5_start, h5_stop
+   use io_files, only: outdir_prepare, file_text, energy_open, energy_row, energy_close, snap_name
+   use io_snapshot, only: snapshot_write, snapshot_index_rebuild
+   use io_checkpoint, only: checkpoint_write, checkpoint_read
+   use logger, only: log_open, log_close, log_line, log_progress
+   use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup
+   use comm, only: comm_wtime, comm_size
+   use errors, only: fatal
+   implicit none
+   private
+   public :: solver_run
+
+   type(case_cfg) :: cfg
+   type(params_t) :: prm
+   type(particles_t) :: p
+   type(grid_t) :: g
+   type(forces_work_t) :: w
+   type(state_t) :: st
+   character(len=:), allocatable :: out, case_text
+   logical, allocatable :: drop(:)
+   real(rp), allocatable :: scratch1(:), scratch2(:)
+
+contains
+
+   subroutine solver_run(c)
+      type(case_cfg), intent(in) :: c
+      real(rp) :: dt_floor, wall_last
+      logical :: done, written
+      cfg = c
+      out = trim(c%run%out_dir)
+      call timer_start(t_setup)
+      call outdir_prepare(c%file, out, c%run%overwrite, c%run%restart)
+      call log_open(out//'/run.log', c%run%restart)
+      call h5_start()
+      if (c%run%restart) then
+         call checkpoint_read(out, p, st)
+         call params_init(c, st%y_surface - st%h_swl, st%y_surface, prm)
+         call log_line('MBSPH: restart of case '''//trim(c%run%case_name)//''' from '//out// &
+                       '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
+      else
+         call scene_build(c, p, prm)
+         st%n_fluid0 = particles_count_kind(p, kind_fluid)
+         st%h_swl = prm%h_swl
+         st%y_surface = prm%y_surface
+      end if
+      call write_case(out//'/case.nml', c)
+      case_text = file_text(out//'/case.nml')
+      call banner()
+      call grid_init(g, c%domain%xmin, c%domain%xmax, c%domain%ymin, c%domain%ymax, prm%h)
+      call forces_init(prm)
+      allocate (drop(size(p%rho)), scratch1(size(p%rho)), scratch2(size(p%rho)))
+      call energy_open(out, c%run%restart, st%istep)
+      if (c%run%restart) then
+         call snapshot_index_rebuild(out, st%isnap)
+      else
+         call write_outputs(.true., .true.)
+      end if
+      call timer_stop(t_setup)
+
+      dt_floor = 1.0e-4_rp*prm%cfl*prm%h/prm%c0
+      st%istep0 = st%istep
+      st%t0 = st%t
+      st%wall0 = comm_wtime()
+      wall_last = st%wall0
+      done = finished()
+      written = .true.
+      do while (.not. done)
+         call timer_start(t_grid)
+         call remove_particles()
+         call grid_sort(g, p, drop)
+         if (prm%kgc == kgc_shepard .and. mod(st%istep + 1, prm%shepard_every) == 0) &
+            call shepard_filter(prm, g, p, scratch1, scratch2)
+         call timer_stop(t_grid)
+         call step_advance(prm, g, p, w, cfg%objs, any_moving(), st%t, st%istep + 1, st%dt)
+         st%t = st%t + st%dt
+         st%istep = st%istep + 1
+         st%particle_steps = st%particle_steps + p%n
+         call check_state(dt_floor)
+         done = finished()
+         written = .false.
+         if (st%t >= st%t_next_snap*(1.0_rp - 1.0e-12_rp) .or. st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp)) then
+            call write_outputs(st%t >= st%t_next_snap*(1.0_rp - 1.0e-12_rp), &
+                               st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp))
+            written = st%t >= st%t_next_snap - cfg%run%dt_out   ! a snapshot of this very step exists
+         end if
+         if (cfg%run%checkpoint_every > 0) then
+            if (mod(st%istep, cfg%run%checkpoint_every) == 0 .and. .not. done) then
+               call timer_start(t_output)
+               call checkpoint_write(out, p, st)
+               call timer_stop(t_output)
+            end if
+         end if
+         if (comm_wtime() - wall_last >= cfg%run%progress_interval .or. done) then
+            call progress()
+            wall_last = comm_wtime()
+         end if
+      end do
+      ! the final state always gets a snapshot and a checkpoint
+      call timer_start(t_output)
+      if (.not. written) call write_outputs(.true., .true.)
+      call checkpoint_write(out, p, st)
+      call timer_stop(t_output)
+      call summary()
+      call energy_close()
+      call h5_stop()
+      call log_close()
+   end subroutine solver_run
+
+   logical function any_moving()
+      logical, save :: known = .false., has = .false.
+      if (.not. known) then
+         has = any(p%kind(1:p%n) == kind_moving)
+         known = .true.
+      end if
+      any_moving = has
+   end function any_moving
+
+   logical function finished()
+      finished = st%t >= cfg%run%t_end*(1.0_rp - 1.0e-12_rp)
+      if (cfg%run%max_steps > 0) finished = finished .or. st%istep >= cfg%run%max_steps
+   end function finished
+
+   !> Fluid particles that left the domain or reached a non-physical density
+   !> are taken out, counted and reported; too many stop the run.
+   subroutine remove_particles()
+      integer :: i, nd, nr
+      real(rp) :: x, y
+      nd = 0
+      nr = 0
+      do i = 1, p%n
+         drop(i) = .false.
+         if (p%kind(i) /= kind_fluid) cycle
+         x = p%x(1, i)
+         y = p%x(2, i)
+         if (x < cfg%domain%xmin .or. x > cfg%domain%xmax .or. y < cfg%domain%ymin .or. y > cfg%domain%ymax) then
+            drop(i) = .true.
+            nd = nd + 1
+         else if (p%rho(i) < prm%rho_min .or. p%rho(i) > prm%rho_max) then
+            drop(i) = .true.
+            nr = nr + 1
+         end if
+      end do
+      if (nd + nr == 0) return
+      st%lost_domain = st%lost_domain + nd
+      st%lost_density = st%lost_density + nr
+      call log_line('step '//int_str(st%istep)//', t = '//real_str(st%t)//' s: removed '//int_str(nd + nr)// &
+                    ' fluid particles (left the domain: '//int_str(nd)//', density outside ['// &
+                    real_str(prm%rho_min)//', '//real_str(prm%rho_max)//'] kg/m3: '//int_str(nr)//')')
+      if (st%lost_domain + st%lost_density > cfg%run%max_lost_fraction*st%n_fluid0) then
+         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text)
+         call fatal('lost '//int_str(st%lost_domain + st%lost_density)//' of '//int_str(st%n_fluid0)// &
+                    ' fluid particles, more than max_lost_fraction = '//real_str(cfg%run%max_lost_fraction)// &
+                    ' (&run); last state written to '//snap_name(out, st%isnap))
+      end if
+   end subroutine remove_particles
+
+   !> Stop on a NaN or a collapsed time step, leaving a last snapshot.
+   subroutine check_state(dt_floor)
+      real(rp), intent(in) :: dt_floor
+      integer :: i
+      character(len=:), allocatable :: what
+      do i = 1, p%n
+         if (ieee_is_nan(p%x(1, i)) .or. ieee_is_nan(p%x(2, i))) then
+            what = 'position'
+         else if (ieee_is_nan(p%v(1, i)) .or. ieee_is_nan(p%v(2, i))) then
+            what = 'velocity'
+         else if (ieee_is_nan(p%rho(i))) then
+            what = 'density'
+         else
+            cycle
+         end if
+         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text)
+         call fatal('NaN in the '//what//' of particle id '//int_str(p%id(i))//' ('//kind_name(p%kind(i))// &
+                    ') at step '//int_str(st%istep)//', t = '//real_str(st%t)//' s; last state written to '// &
+                    snap_name(out, st%isnap))
+      end do
+      if (st%dt < dt_floor) then
+         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text)
+         call fatal('the time step fell to '//real_str(st%dt)//' s (below 1e-4 of the acoustic step) at step '// &
+                    int_str(st%istep)//', t = '//real_str(st%t)//' s: the flow has become unstable'// &
+                    ' (try a smaller cfl or more viscosity); last state written to '//snap_name(out, st%isnap))
+      end if
+   end subroutine check_state
+
+   subroutine write_outputs(snap, energy)
+      logical, intent(in) :: snap, energy
+      real(rp) :: ekin, epot, mass
+      integer :: i, nf
+      real(rp) :: de
+      call timer_start(t_output)
+      if (snap) then
+         call eos_update(prm, p%n, p%rho, p%p, scratch1)
+         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text)
+         st%isnap = st%isnap + 1
+         st%t_next_snap = (floor(st%t/cfg%run%dt_out + 1.0e-9_rp) + 1)*cfg%run%dt_out
+      end if
+      if (energy) then
+         ekin = 0.0_rp
+         epot = 0.0_rp
+         mass = 0.0_rp
+         nf = 0
+         do i = 1, p%n
+            if (p%kind(i) /= kind_fluid) cycle
+            ekin = ekin + 0.5_rp*p%mass(i)*(p%v(1, i)**2 + p%v(2, i)**2)
+            epot = epot + p%mass(i)*prm%g*p%x(2, i)
+            mass = mass + p%mass(i)
+            nf = nf + 1
+         end do
+         call energy_row(st%t, st%istep, ekin, epot, mass, nf, st%lost_domain + st%lost_density)
+         st%ienergy = st%ienergy + 1
+         de = cfg%run%energy_interval
+         if (de <= 0.0_rp) de = cfg%run%dt_out
+         st%t_next_energy = (floor(st%t/de + 1.0e-9_rp) + 1)*de
+      end if
+      call timer_stop(t_output)
+   end subroutine write_outputs
+
+   subroutine banner()
+      character(len=:), allocatable :: fx
+      call log_line('MBSPH case '''//trim(cfg%run%case_name)//''' from '//trim(cfg%file))
+      call log_line('  particles: '//int_str(p%n)//' ('//kind_name(kind_fluid)//' '// &
+                    int_str(particles_count_kind(p, kind_fluid))//', '//kind_name(kind_fixed)//' '// &
+                    int_str(particles_count_kind(p, kind_fixed))//', '//kind_name(kind_moving)//' '// &
+                    int_str(particles_count_kind(p, kind_moving))//', '//kind_name(kind_floating)//' '// &
+                    int_str(particles_count_kind(p, kind_floating))//')')
+      call log_line('  dp = '//real_str(prm%dp)//' m, h = '//real_str(prm%h)//' m, c0 = '//real_str(prm%c0)// &
+                    ' m/s, h_swl = '//real_str(prm%h_swl)//' m, rho0 = '//real_str(prm%rho0)// &
+                    ' kg/m3, first dt about '//real_str(prm%cfl*prm%h/prm%c0)//' s')
+      call log_line('  kernel '//trim(cfg%numerics%kernel)//', integrator '//trim(cfg%numerics%integrator)// &
+                    ', cfl '//real_str(prm%cfl)//', ranks '//int_str(comm_size()))
+      if (prm%visc == visc_artificial) then
+         fx = 'artificial viscosity (alpha '//real_str(prm%alpha)//')'
+      else
+         fx = 'laminar + SPS viscosity (nu '//real_str(prm%nu)//' m2/s)'
+      end if
+      if (prm%diffusion /= diff_none) then
+         fx = fx//', density diffusion '//trim(cfg%numerics%diffusion)//' (delta '//real_str(cfg%numerics%delta)//')'
+      end if
+      if (prm%kgc == kgc_gradient) fx = fx//', kernel gradient correction'
+      if (prm%kgc == kgc_shepard) fx = fx//', Shepard filter every '//int_str(prm%shepard_every)//' steps'
+      if (any(p%kind(1:p%n) == kind_moving)) fx = fx//', moving boundaries'
+      if (prm%integrator == integ_verlet) fx = fx//', Verlet Euler step every '//int_str(prm%verlet_every)
+      call log_line('  effects on: '//fx)
+      call log_line('  output: '//out//', snapshot every '//real_str(cfg%run%dt_out)//' s until t = '// &
+                    real_str(cfg%run%t_end)//' s')
+   end subroutine banner
+
+   subroutine progress()
+      real(rp) :: wall, rate, eta, frac
+      character(len=256) :: line
+      integer :: hh, mm, ss
+      wall = comm_wtime() - st%wall0
+      rate = real(st%particle_steps, rp)/max(wall, 1.0e-9_rp)
+      frac = st%t/cfg%run%t_end
+      eta = 0.0_rp
+      if (st%t > st%t0) eta = wall*(cfg%run%t_end - st%t)/(st%t - st%t0)
+      if (cfg%run%max_steps > 0) then
+         frac = max(frac, real(st%istep, rp)/cfg%run%max_steps)
+         if (st%istep > st%istep0) eta = min(eta, wall*(cfg%run%max_steps - st%istep)/(st%istep - st%istep0))
+      end if
+      eta = max(eta, 0.0_rp)
+      hh = int(eta/3600.0_rp)
+      mm = int((eta - 3600.0_rp*hh)/60.0_rp)
+      ss = int(eta - 3600.0_rp*hh - 60.0_rp*mm)
+      write (line, '("t = ",f0.4," s  ",f5.1," %  step ",i0,"  dt ",es9.3," s  ",es9.3, &
+            &" particle-steps/s  ETA ",i0,":",i2.2,":",i2.2)') st%t, 100.0_rp*min(frac, 1.0_rp), st%istep, st%dt, &
+            rate, hh, mm, ss
+      call log_progress(trim(line))
+   end subroutine progress
+
+   subroutine summary()
+      real(rp) :: wall, tt
+      integer :: k
+      character(len=128) :: line
+      wall = comm_wtime() - st%wall0
+      call log_line('done: t = '//real_str(st%t)//' s after '//int_str(st%istep)//' steps; fluid particles lost: '// &
+                    int_str(st%lost_domain + st%lost_density))
+      call log_line('wall time by phase [s]:')
+      do k = 1, n_timers
+         tt = timer_get(k)
+         write (line, '(4x,a12,f12.3,f8.1," %")') timer_label(k), tt, 100.0_rp*tt/max(wall + timer_get(t_setup), 1.0e-9_rp)
+         call log_line(trim(line))
+      end do
+      if (st%particle_steps > 0_i8) then
+         write (line, '("cost: ",f0.4," microseconds per particle-step (",i0," particle-steps in ",f0.3," s)")') &
+            1.0e6_rp*wall/real(st%particle_steps, rp), st%particle_steps, wall
+         call log_line(trim(line))
+      end if
+   end subroutine summary
+end module solver

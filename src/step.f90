@@ -1,0 +1,191 @@
+!> Time integration: symplectic, predictor-corrector and Verlet (with an
+!> Euler step every verlet_every steps), with the variable time step of
+!> Monaghan and Kos (1999): force, acoustic-viscous and laminar limits.
+module step
+   use kinds, only: rp
+   use constants, only: kind_fluid, kind_moving
+   use params, only: params_t, integ_symplectic, integ_predictor_corrector, integ_verlet, visc_laminar_sps
+   use grid, only: grid_t
+   use particles, only: particles_t
+   use fluid_forces, only: forces_work_t, forces_compute
+   use input_geometry, only: geom_object
+   use bc_motion, only: motion_apply
+   use timers, only: timer_start, timer_stop, t_pairs, t_integrate
+   implicit none
+   private
+   public :: step_advance, step_dt
+
+   real(rp), allocatable :: x0(:, :), v0(:, :), rho0(:)   ! state at the start of a step
+
+contains
+
+   !> Time step from the forces just computed.
+   real(rp) function step_dt(prm, p, w) result(dt)
+      type(params_t), intent(in) :: prm
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(in) :: w
+      real(rp) :: amax2, cmax
+      integer :: i
+      amax2 = 0.0_rp
+      cmax = prm%c0
+      do i = 1, p%n
+         if (p%kind(i) /= kind_fluid) cycle
+         amax2 = max(amax2, w%acc(1, i)**2 + w%acc(2, i)**2)
+         cmax = max(cmax, w%cs(i))
+      end do
+      dt = prm%h/(cmax + w%mumax)
+      if (amax2 > 0.0_rp) dt = min(dt, sqrt(prm%h/sqrt(amax2)))
+      dt = prm%cfl*dt
+      if (prm%visc == visc_laminar_sps .and. prm%nu > 0.0_rp) dt = min(dt, 0.125_rp*prm%h2/prm%nu)
+   end function step_dt
+
+   !> One step of the chosen integrator from time t. Returns the dt taken.
+   !> istep is the number of the step being taken (1 for the first).
+   subroutine step_advance(prm, g, p, w, objs, has_moving, t, istep, dt)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(inout) :: p
+      type(forces_work_t), intent(inout) :: w
+      type(geom_object), intent(in) :: objs(:)
+      logical, intent(in) :: has_moving
+      real(rp), intent(in) :: t
+      integer, intent(in) :: istep
+      real(rp), intent(out) :: dt
+      select case (prm%integrator)
+      case (integ_verlet)
+         call verlet(prm, g, p, w, objs, has_moving, t, istep, dt)
+      case (integ_predictor_corrector)
+         call two_stage(prm, g, p, w, objs, has_moving, t, dt, .false.)
+      case default
+         call two_stage(prm, g, p, w, objs, has_moving, t, dt, .true.)
+      end select
+   end subroutine step_advance
+
+   subroutine evaluate(prm, g, p, w)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(inout) :: p
+      type(forces_work_t), intent(inout) :: w
+      call timer_start(t_pairs)
+      call forces_compute(prm, g, p, w)
+      call timer_stop(t_pairs)
+   end subroutine evaluate
+
+   subroutine save_state(p)
+      type(particles_t), intent(in) :: p
+      integer :: n
+      n = p%n
+      if (allocated(rho0)) then
+         if (size(rho0) < n) deallocate (x0, v0, rho0)
+      end if
+      if (.not. allocated(rho0)) allocate (x0(2, size(p%rho)), v0(2, size(p%rho)), rho0(size(p%rho)))
+      x0(:, 1:n) = p%x(:, 1:n)
+      v0(:, 1:n) = p%v(:, 1:n)
+      rho0(1:n) = p%rho(1:n)
+   end subroutine save_state
+
+   !> Symplectic (position Verlet, as in DualSPHysics) or the
+   !> predictor-corrector of SPHysics; both evaluate forces twice a step.
+   subroutine two_stage(prm, g, p, w, objs, has_moving, t, dt, symplectic)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(inout) :: p
+      type(forces_work_t), intent(inout) :: w
+      type(geom_object), intent(in) :: objs(:)
+      logical, intent(in) :: has_moving, symplectic
+      real(rp), intent(in) :: t
+      real(rp), intent(out) :: dt
+      integer :: i
+      real(rp) :: hdt, eps
+      call evaluate(prm, g, p, w)
+      dt = step_dt(prm, p, w)
+      hdt = 0.5_rp*dt
+      call timer_start(t_integrate)
+      call save_state(p)
+      ! predictor: half a step with the rates at t
+      do i = 1, p%n
+         p%rho(i) = p%rho(i) + hdt*w%drho(i)
+         if (p%kind(i) == kind_fluid) then
+            p%x(:, i) = p%x(:, i) + hdt*p%v(:, i)
+            p%v(:, i) = p%v(:, i) + hdt*w%acc(:, i)
+         else
+            p%rho(i) = max(p%rho(i), prm%rho0)
+         end if
+      end do
+      if (has_moving) call motion_apply(objs, p, t + hdt)
+      call timer_stop(t_integrate)
+      call evaluate(prm, g, p, w)
+      call timer_start(t_integrate)
+      if (symplectic) then
+         do i = 1, p%n
+            eps = -(w%drho(i)/p%rho(i))*dt
+            p%rho(i) = rho0(i)*(2.0_rp - eps)/(2.0_rp + eps)
+            if (p%kind(i) == kind_fluid) then
+               p%v(:, i) = v0(:, i) + dt*w%acc(:, i)
+               p%x(:, i) = p%x(:, i) + hdt*p%v(:, i)
+            else
+               p%rho(i) = max(p%rho(i), prm%rho0)
+            end if
+         end do
+      else
+         ! corrector to t + dt/2 with the mid-step rates, then extrapolate to t + dt
+         do i = 1, p%n
+            p%rho(i) = 2.0_rp*(rho0(i) + hdt*w%drho(i)) - rho0(i)
+            if (p%kind(i) == kind_fluid) then
+               p%v(:, i) = 2.0_rp*(v0(:, i) + hdt*w%acc(:, i)) - v0(:, i)
+               p%x(:, i) = 2.0_rp*(x0(:, i) + hdt*0.5_rp*(v0(:, i) + p%v(:, i))) - x0(:, i)
+            else
+               p%rho(i) = max(p%rho(i), prm%rho0)
+            end if
+         end do
+      end if
+      if (has_moving) call motion_apply(objs, p, t + dt)
+      call timer_stop(t_integrate)
+   end subroutine two_stage
+
+   !> Verlet: a leapfrog over two steps, with an Euler step every
+   !> verlet_every steps to keep the two interleaved solutions together.
+   subroutine verlet(prm, g, p, w, objs, has_moving, t, istep, dt)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(inout) :: p
+      type(forces_work_t), intent(inout) :: w
+      type(geom_object), intent(in) :: objs(:)
+      logical, intent(in) :: has_moving
+      real(rp), intent(in) :: t
+      integer, intent(in) :: istep
+      real(rp), intent(out) :: dt
+      integer :: i
+      real(rp) :: vnew(2), rnew, dt2, hdt2
+      logical :: euler
+      call evaluate(prm, g, p, w)
+      dt = step_dt(prm, p, w)
+      call timer_start(t_integrate)
+      euler = mod(istep, prm%verlet_every) == 0
+      dt2 = 2.0_rp*dt
+      hdt2 = 0.5_rp*dt*dt
+      do i = 1, p%n
+         if (euler) then
+            rnew = p%rho(i) + dt*w%drho(i)
+         else
+            rnew = p%rhom1(i) + dt2*w%drho(i)
+         end if
+         p%rhom1(i) = p%rho(i)
+         if (p%kind(i) == kind_fluid) then
+            if (euler) then
+               vnew = p%v(:, i) + dt*w%acc(:, i)
+            else
+               vnew = p%vm1(:, i) + dt2*w%acc(:, i)
+            end if
+            p%x(:, i) = p%x(:, i) + dt*p%v(:, i) + hdt2*w%acc(:, i)
+            p%vm1(:, i) = p%v(:, i)
+            p%v(:, i) = vnew
+            p%rho(i) = rnew
+         else
+            p%rho(i) = max(rnew, prm%rho0)
+         end if
+      end do
+      if (has_moving) call motion_apply(objs, p, t + dt)
+      call timer_stop(t_integrate)
+   end subroutine verlet
+end module step
