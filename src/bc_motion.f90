@@ -26,6 +26,7 @@ contains
             w = 2.0_rp*pi/objs(b)%period
             p%x(:, i) = p%xb(:, i) + objs(b)%amplitude*sin(w*t)
             p%v(:, i) = objs(b)%amplitude*w*cos(w*t)
+         case default  ! 'fixed': nothing to move
          end select
       end do
    end subroutine motion_apply

@@ -31,6 +31,7 @@ module fluid_forces
       subroutine pairs_iface(n, ncell, nx, cstart, x, v, rho, p, mass, kind, cs, rhod, lm, tau, &
                              h, support2, eta2, fw, alpha, nu4, dcoef, acc, drho, mumax)
          import :: rp
+         implicit none
          integer, intent(in) :: n, ncell, nx
          integer, intent(in) :: cstart(:)
          real(rp), intent(in) :: x(2, n), v(2, n), rho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
@@ -45,6 +46,7 @@ module fluid_forces
 
 contains
 
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "kernel_formulas.inc"
 
    !> Choose the pair loop for this run's models.
@@ -70,6 +72,7 @@ contains
       case (13); pairs => pairs_k2_v1_d1_g1
       case (14); pairs => pairs_k1_v2_d1_g1
       case (15); pairs => pairs_k2_v2_d1_g1
+      case default  ! none: code is 0 .. 15 by construction
       end select
    end subroutine forces_init
 
@@ -150,11 +153,11 @@ contains
             jlo = [i + 1, g%cstart(c + g%nx - 1)]
             jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
             do r = 1, 2
-               do j = jlo(r), jhi(r)
+               neighbours: do j = jlo(r), jhi(r)
                   dx = p%x(1, i) - p%x(1, j)
                   dy = p%x(2, i) - p%x(2, j)
                   r2 = dx*dx + dy*dy
-                  if (r2 >= prm%support2) cycle
+                  if (r2 >= prm%support2) cycle neighbours
                   q = sqrt(r2)*hinv
                   if (prm%kernel == kernel_cubic) then
                      fac = prm%fw*KF_CUBIC(q)
@@ -167,7 +170,7 @@ contains
                   ! grad v_i = sum_j V_j (v_j - v_i) grad_i W; grad_j W_ji = -grad_i W_ij
                   gv(:, i) = gv(:, i) + vj*fac*[dvx*dx, dvx*dy, dvy*dx, dvy*dy]
                   gv(:, j) = gv(:, j) + vi*fac*[dvx*dx, dvx*dy, dvy*dx, dvy*dy]
-               end do
+               end do neighbours
             end do
          end do
       end do
@@ -190,6 +193,7 @@ contains
 #define VISC 1
 #define DIFF 0
 #define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k1_v1_d0_g1
@@ -197,6 +201,7 @@ contains
 #define VISC 1
 #define DIFF 0
 #define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k1_v1_d1_g0
@@ -204,6 +209,7 @@ contains
 #define VISC 1
 #define DIFF 1
 #define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k1_v1_d1_g1
@@ -211,6 +217,7 @@ contains
 #define VISC 1
 #define DIFF 1
 #define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k1_v2_d0_g0
@@ -218,6 +225,7 @@ contains
 #define VISC 2
 #define DIFF 0
 #define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k1_v2_d0_g1
@@ -225,6 +233,7 @@ contains
 #define VISC 2
 #define DIFF 0
 #define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k1_v2_d1_g0
@@ -232,6 +241,7 @@ contains
 #define VISC 2
 #define DIFF 1
 #define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k1_v2_d1_g1
@@ -239,6 +249,7 @@ contains
 #define VISC 2
 #define DIFF 1
 #define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k2_v1_d0_g0
@@ -246,6 +257,7 @@ contains
 #define VISC 1
 #define DIFF 0
 #define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k2_v1_d0_g1
@@ -253,6 +265,7 @@ contains
 #define VISC 1
 #define DIFF 0
 #define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k2_v1_d1_g0
@@ -260,6 +273,7 @@ contains
 #define VISC 1
 #define DIFF 1
 #define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k2_v1_d1_g1
@@ -267,6 +281,7 @@ contains
 #define VISC 1
 #define DIFF 1
 #define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k2_v2_d0_g0
@@ -274,6 +289,7 @@ contains
 #define VISC 2
 #define DIFF 0
 #define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k2_v2_d0_g1
@@ -281,6 +297,7 @@ contains
 #define VISC 2
 #define DIFF 0
 #define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k2_v2_d1_g0
@@ -288,6 +305,7 @@ contains
 #define VISC 2
 #define DIFF 1
 #define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
 #define PAIRS_NAME pairs_k2_v2_d1_g1
@@ -295,5 +313,6 @@ contains
 #define VISC 2
 #define DIFF 1
 #define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 end module fluid_forces

@@ -118,13 +118,13 @@ contains
       x = .false.
       do i = 1, nv
          j = modulo(i, nv) + 1
-         do k = i + 2, nv
+         edges: do k = i + 2, nv
             l = modulo(k, nv) + 1
-            if (l == i) cycle
+            if (l == i) cycle edges
             if (segments_cross(v(:, i), v(:, j), v(:, k), v(:, l), scale*scale)) then
                x = .true.; return
             end if
-         end do
+         end do edges
       end do
    end function polygon_self_intersects
 

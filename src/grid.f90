@@ -8,7 +8,7 @@ module grid
    use particles, only: particles_t, particles_permute
    implicit none
    private
-   public :: grid_t, grid_init, grid_sort, grid_cell_of
+   public :: grid_t, grid_init, grid_sort, grid_cell_of, grid_visit_pairs
 
    type :: grid_t
       real(rp) :: x0, y0          !< lower-left corner of the domain [m]
@@ -89,4 +89,36 @@ contains
       call particles_permute(p, g%perm(1:n), nkeep)
       g%cstart(g%ncell + 2) = n + 1
    end subroutine grid_sort
+
+   !> Call visit(i, j, r2) once for every pair i /= j closer than sqrt(r2max),
+   !> by the half stencil every pair loop uses: for particle i of cell c, the
+   !> later particles of c and those of c+1 (one index range), then the cells
+   !> c+nx-1 .. c+nx+1 above (another range). Ghost cells are empty, so no
+   !> range needs a bounds test. The hot loops inline this traversal.
+   subroutine grid_visit_pairs(g, x, r2max, visit)
+      type(grid_t), intent(in) :: g
+      real(rp), intent(in) :: x(:, :), r2max
+      interface
+         subroutine visit(i, j, r2)
+            import :: rp
+            implicit none
+            integer, intent(in) :: i, j
+            real(rp), intent(in) :: r2
+         end subroutine visit
+      end interface
+      integer :: c, i, j, r, jlo(2), jhi(2)
+      real(rp) :: r2
+      do c = 1, g%ncell - g%nx - 1
+         do i = g%cstart(c), g%cstart(c + 1) - 1
+            jlo = [i + 1, g%cstart(c + g%nx - 1)]
+            jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
+            do r = 1, 2
+               do j = jlo(r), jhi(r)
+                  r2 = (x(1, i) - x(1, j))**2 + (x(2, i) - x(2, j))**2
+                  if (r2 < r2max) call visit(i, j, r2)
+               end do
+            end do
+         end do
+      end do
+   end subroutine grid_visit_pairs
 end module grid

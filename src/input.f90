@@ -2,7 +2,7 @@
 !> Every check happens here, before any particle is made.
 module input
    use kinds, only: rp
-   use constants, only: path_len
+   use constants, only: path_len, msg_len
    use input_check, only: scan_groups, real_str
    use input_run, only: run_cfg, read_run, write_run
    use input_domain, only: domain_cfg, read_domain, write_domain
@@ -54,16 +54,16 @@ contains
       end do
       do i = 1, size(c%objs)
          if (c%objs(i)%role /= 'fluid') cycle
-         do k = 1, size(c%objs)
-            if (k == i) cycle
-            if (c%objs(k)%role == 'fluid' .and. k < i) cycle
+         others: do k = 1, size(c%objs)
+            if (k == i) cycle others
+            if (c%objs(k)%role == 'fluid' .and. k < i) cycle others
             if (polygons_overlap(c%objs(i)%v, c%objs(k)%v, 1.0e-9_rp)) then
                gi = obj_name(c%objs(i))
                gk = obj_name(c%objs(k))
                call input_error(file, gi, '', 'the fluid overlaps '//trim(c%objs(k)%role)//' object &'//gk// &
                                 ' (fluid and walls must not share area)')
             end if
-         end do
+         end do others
       end do
    end subroutine read_case
 
@@ -80,9 +80,10 @@ contains
       character(len=*), intent(in) :: path
       type(case_cfg), intent(in) :: c
       integer :: u, ios
-      open (newunit=u, file=path, status='replace', action='write', iostat=ios)
-      if (ios /= 0) call fatal('cannot write '//trim(path))
-      write (u, '(a)') '! Effective input of MBSPH case '''//trim(c%run%case_name)//''' read from '//trim(c%file)
+      character(len=msg_len) :: msg
+      open (newunit=u, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+      if (ios /= 0) call fatal('cannot write '//trim(path)//': '//trim(msg))
+      write (u, '(a)') "! Effective input of MBSPH case '"//trim(c%run%case_name)//"' read from "//trim(c%file)
       call write_run(u, c%run)
       call write_domain(u, c%domain)
       call write_fluid(u, c%fluid)

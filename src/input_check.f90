@@ -62,30 +62,30 @@ contains
       character(len=64) :: name
       logical :: in_str
       character :: q
+      character(len=msg_len) :: msg
       u = open_case(file)
       line = 0
       do
-         read (u, '(a)', iostat=ios) buf
+         read (u, '(a)', iostat=ios, iomsg=msg) buf
          if (ios /= 0) exit
          line = line + 1
          in_str = .false.
          q = ' '
          i = 1
-         do while (i <= len_trim(buf))
+         chars: do while (i <= len_trim(buf))
+            if (.not. in_str .and. buf(i:i) == '!') exit chars
             if (in_str) then
                if (buf(i:i) == q) in_str = .false.
             else if (buf(i:i) == '"' .or. buf(i:i) == "'") then
                in_str = .true.
                q = buf(i:i)
-            else if (buf(i:i) == '!') then
-               exit
             else if (buf(i:i) == '&' .or. buf(i:i) == '$') then
                j = i + 1
                k = j
-               do while (k <= len_trim(buf))
-                  if (verify(buf(k:k), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_') /= 0) exit
+               name_end: do while (k <= len_trim(buf))
+                  if (verify(buf(k:k), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_') /= 0) exit name_end
                   k = k + 1
-               end do
+               end do name_end
                name = lower(buf(j:k - 1))
                if (len_trim(name) > 0 .and. trim(name) /= 'end') then
                   if (.not. any(known_groups == name)) then
@@ -95,10 +95,10 @@ contains
                   end if
                end if
                i = k
-               cycle
+               cycle chars
             end if
             i = i + 1
-         end do
+         end do chars
       end do
       close (u)
    end subroutine scan_groups
@@ -158,25 +158,26 @@ contains
       integer :: u, ios, i, k
       character(len=4096) :: buf
       character(len=4096) :: low
+      character(len=msg_len) :: msg
       u = open_case(file)
       n = 0
       do
-         read (u, '(a)', iostat=ios) buf
+         read (u, '(a)', iostat=ios, iomsg=msg) buf
          if (ios /= 0) exit
          low = lower(buf)
          k = index(low, '!')
          if (k > 0) low(k:) = ' '
          i = 1
-         do
+         matches: do
             k = index(low(i:), '&'//trim(group))
-            if (k == 0) exit
+            if (k == 0) exit matches
             i = i + k - 1 + len_trim(group) + 1
             if (i > len(low)) then
                n = n + 1
-               exit
+               exit matches
             end if
             if (verify(low(i:i), 'abcdefghijklmnopqrstuvwxyz0123456789_') /= 0) n = n + 1
-         end do
+         end do matches
       end do
       close (u)
    end function group_count
@@ -238,6 +239,7 @@ contains
    !> Stop unless value is one of choices (case-insensitive); returns it lower-cased.
    subroutine check_choice(file, group, var, value, choices)
       character(len=*), intent(in) :: file, group, var
+      ! allow(assumed-size-character-intent): value is only lower-cased and left-adjusted in place, so it keeps its length
       character(len=*), intent(inout) :: value
       character(len=*), intent(in) :: choices(:)
       integer :: i

@@ -96,8 +96,9 @@ contains
          allocate (objs(n)%v(2, nvert))
          objs(n)%v(1, :) = x(1:nvert)
          objs(n)%v(2, :) = y(1:nvert)
-         if (abs(polygon_area(objs(n)%v)) < 1.0e-12_rp*maxval(abs(objs(n)%v))**2) &
+         if (abs(polygon_area(objs(n)%v)) < 1.0e-12_rp*maxval(abs(objs(n)%v))**2) then
             call input_error(file, g, 'x, y', 'the polygon has zero area')
+         end if
          if (polygon_self_intersects(objs(n)%v)) call input_error(file, g, 'x, y', 'the outline crosses itself')
          if (polygon_area(objs(n)%v) < 0.0_rp) objs(n)%v = objs(n)%v(:, nvert:1:-1)
          call set_common(objs(n), g)
@@ -168,6 +169,7 @@ contains
             x0 = objs(k)%line(1); y0 = objs(k)%line(2); x1 = objs(k)%line(3); y1 = objs(k)%line(4)
             layers = objs(k)%layers
             write (u, nml=slope)
+         case default  ! none: box, polygon and slope are the only groups
          end select
       end do
    end subroutine write_geometry

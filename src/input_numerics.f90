@@ -13,16 +13,16 @@ module input_numerics
       real(rp) :: h_over_dp = 1.4142135623730951_rp      !< smoothing length / dp [-]
       character(len=name_len) :: kernel = 'wendland'     !< 'wendland' | 'cubic'
       real(rp) :: cfl = 0.2_rp                           !< Courant number [-]
-      character(len=name_len) :: integrator = 'symplectic' !< 'symplectic' | 'predictor_corrector' | 'verlet'
+      character(len=name_len) :: integrator = 'symplectic'  !< 'symplectic' | 'predictor_corrector' | 'verlet'
       integer :: verlet_every = 40                       !< Verlet: an Euler step every N steps
-      character(len=name_len) :: viscosity = 'artificial' !< 'artificial' | 'laminar_sps'
+      character(len=name_len) :: viscosity = 'artificial'  !< 'artificial' | 'laminar_sps'
       real(rp) :: alpha = 0.01_rp                        !< artificial viscosity coefficient [-]
       real(rp) :: nu = 1.0e-6_rp                         !< kinematic viscosity (laminar) [m2/s]
       real(rp) :: cs_sps = 0.12_rp                       !< Smagorinsky constant (SPS) [-]
       real(rp) :: ci_sps = 0.0066_rp                     !< Blin constant (SPS) [-]
-      character(len=name_len) :: diffusion = 'fourtakas' !< 'none' | 'molteni' | 'fourtakas'
+      character(len=name_len) :: diffusion = 'fourtakas'  !< 'none' | 'molteni' | 'fourtakas'
       real(rp) :: delta = 0.1_rp                         !< density diffusion coefficient [-]
-      character(len=name_len) :: kernel_correction = 'none' !< 'none' | 'gradient' | 'shepard'
+      character(len=name_len) :: kernel_correction = 'none'  !< 'none' | 'gradient' | 'shepard'
       integer :: shepard_every = 30                      !< Shepard density filter every N steps
    end type numerics_cfg
 

@@ -17,7 +17,7 @@ module input_run
       logical :: restart = .false.          !< continue from out_dir/checkpoint.h5
       integer :: checkpoint_every = 0       !< steps between checkpoints (0: only at the end)
       integer :: max_steps = 0              !< stop after this many steps (0: no limit)
-      real(rp) :: max_lost_fraction = 0.02_rp !< stop when more fluid than this is lost
+      real(rp) :: max_lost_fraction = 0.02_rp  !< stop when more fluid than this is lost
       real(rp) :: progress_interval = 2.0_rp  !< wall seconds between progress lines
       real(rp) :: energy_interval = 0.0_rp    !< interval of energy.csv rows [s] (0: dt_out)
    end type run_cfg

@@ -2,7 +2,7 @@
 !> and keep energy.csv consistent with a restart.
 module io_files
    use kinds, only: rp
-   use constants, only: path_len
+   use constants, only: path_len, msg_len
    use errors, only: input_error, fatal
    use input_check, only: int_str
    implicit none
@@ -31,8 +31,9 @@ contains
    subroutine delete_file(path)
       character(len=*), intent(in) :: path
       integer :: u, ios
+      character(len=msg_len) :: msg
       if (.not. file_exists(path)) return
-      open (newunit=u, file=trim(path), status='old', iostat=ios)
+      open (newunit=u, file=trim(path), status='old', action='read', iostat=ios, iomsg=msg)
       if (ios == 0) close (u, status='delete')
    end subroutine delete_file
 
@@ -56,7 +57,7 @@ contains
       if (any(held)) then
          if (.not. overwrite) call input_error(case_file, 'run', 'out_dir', "the folder '"//trim(d)// &
             "' already holds a run; set overwrite = .true. to replace it, restart = .true. to continue it,"// &
-            " or choose another out_dir")
+            ' or choose another out_dir')
          k = 0
          do while (file_exists(snap_name(d, k)))
             call delete_file(snap_name(d, k))
@@ -77,7 +78,8 @@ contains
    logical function dir_writable(d)
       character(len=*), intent(in) :: d
       integer :: u, ios
-      open (newunit=u, file=trim(d)//'/.mbsph_write_test', status='replace', iostat=ios)
+      character(len=msg_len) :: msg
+      open (newunit=u, file=trim(d)//'/.mbsph_write_test', status='replace', action='write', iostat=ios, iomsg=msg)
       dir_writable = ios == 0
       if (ios == 0) close (u, status='delete')
    end function dir_writable
@@ -88,11 +90,12 @@ contains
       character(len=:), allocatable :: s
       character(len=4096) :: line
       integer :: u, ios
+      character(len=msg_len) :: msg
       s = ''
-      open (newunit=u, file=trim(path), status='old', action='read', iostat=ios)
+      open (newunit=u, file=trim(path), status='old', action='read', iostat=ios, iomsg=msg)
       if (ios /= 0) return
       do
-         read (u, '(a)', iostat=ios) line
+         read (u, '(a)', iostat=ios, iomsg=msg) line
          if (ios /= 0) exit
          s = s//trim(line)//new_line('a')
       end do
@@ -109,26 +112,30 @@ contains
       character(len=4096) :: line
       character(len=64) :: tok
       integer :: u, ios, k, step
+      character(len=msg_len) :: msg
       logical :: have
       path = trim(out_dir)//'/energy.csv'
       keep = ''
       have = file_exists(path)
       if (restart .and. have) then
          open (newunit=u, file=path, status='old', action='read')
-         read (u, '(a)', iostat=ios) line          ! header
-         do
-            read (u, '(a)', iostat=ios) line
-            if (ios /= 0) exit
-            k = index(line, ',')
-            tok = line(k + 1:)
-            k = index(tok, ',')
-            read (tok(1:k - 1), *, iostat=ios) step
-            if (ios == 0 .and. step <= last_step) keep = keep//trim(line)//new_line('a')
-         end do
+         read (u, '(a)', iostat=ios, iomsg=msg) line          ! header
+         ! no header: an empty file, nothing to keep
+         if (ios == 0) then
+            do
+               read (u, '(a)', iostat=ios, iomsg=msg) line
+               if (ios /= 0) exit
+               k = index(line, ',')
+               tok = line(k + 1:)
+               k = index(tok, ',')
+               read (tok(1:k - 1), *, iostat=ios, iomsg=msg) step
+               if (ios == 0 .and. step <= last_step) keep = keep//trim(line)//new_line('a')
+            end do
+         end if
          close (u)
       end if
-      open (newunit=energy_unit, file=path, status='replace', action='write', iostat=ios)
-      if (ios /= 0) call fatal('cannot write '//path)
+      open (newunit=energy_unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+      if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
       write (energy_unit, '(a)') 'time,step,kinetic,potential,total_mass,n_fluid,lost'
       if (len(keep) > 0) write (energy_unit, '(a)', advance='no') keep
       flush (energy_unit)

@@ -31,6 +31,8 @@ module io_hdf5
    interface
       function c_rename(old, new) bind(C, name='rename') result(r)
          import :: c_int, c_char
+         implicit none
+         ! allow(assumed-size): the standard interoperable form of the char * arguments of C rename
          character(kind=c_char), intent(in) :: old(*), new(*)
          integer(c_int) :: r
       end function c_rename
@@ -60,8 +62,9 @@ contains
    !> Rename a file (atomic on one file system).
    subroutine file_rename(old, new)
       character(len=*), intent(in) :: old, new
-      if (c_rename(trim(old)//c_null_char, trim(new)//c_null_char) /= 0) &
+      if (c_rename(trim(old)//c_null_char, trim(new)//c_null_char) /= 0) then
          call fatal('cannot rename '//trim(old)//' to '//trim(new))
+      end if
    end subroutine file_rename
 
    integer(hid_t) function h5_create(path) result(f)

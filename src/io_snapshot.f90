@@ -2,6 +2,7 @@
 !> lets ParaView open the whole series.
 module io_snapshot
    use kinds, only: rp
+   use constants, only: msg_len
    use particles, only: particles_t
    use params, only: params_t
    use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_attr_write, h5_attr_read, &
@@ -115,11 +116,12 @@ contains
    subroutine xdmf_write(out_dir)
       character(len=*), intent(in) :: out_dir
       integer :: u, k, ios
+      character(len=msg_len) :: msg
       character(len=:), allocatable :: path, snap
       character(len=24) :: ns
       path = trim(out_dir)//'/particles.xmf'
-      open (newunit=u, file=path//'.tmp', status='replace', action='write', iostat=ios)
-      if (ios /= 0) call fatal('cannot write '//path//'.tmp')
+      open (newunit=u, file=path//'.tmp', status='replace', action='write', iostat=ios, iomsg=msg)
+      if (ios /= 0) call fatal('cannot write '//path//'.tmp: '//trim(msg))
       write (u, '(a)') '<?xml version="1.0" ?>'
       write (u, '(a)') '<Xdmf Version="3.0">'
       write (u, '(a)') ' <Domain>'

@@ -11,6 +11,7 @@ module kernel
 
 contains
 
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "kernel_formulas.inc"
 
    !> Kernel number from its namelist name.

@@ -14,6 +14,7 @@ module kernel_correction
 
 contains
 
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "kernel_formulas.inc"
 
    !> L_i stored as (Lxx, Lxy, Lyy) in lm(:, i), for every particle; the
@@ -34,11 +35,11 @@ contains
             jlo = [i + 1, g%cstart(c + g%nx - 1)]
             jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
             do r = 1, 2
-               do j = jlo(r), jhi(r)
+               neighbours: do j = jlo(r), jhi(r)
                   dx = p%x(1, i) - p%x(1, j)
                   dy = p%x(2, i) - p%x(2, j)
                   r2 = dx*dx + dy*dy
-                  if (r2 >= prm%support2) cycle
+                  if (r2 >= prm%support2) cycle neighbours
                   q = sqrt(r2)*hinv
                   if (prm%kernel == kernel_cubic) then
                      fac = -prm%fw*KF_CUBIC(q)
@@ -52,7 +53,7 @@ contains
                   lm(1, j) = lm(1, j) + vi*fac*dx*dx
                   lm(2, j) = lm(2, j) + vi*fac*dx*dy
                   lm(3, j) = lm(3, j) + vi*fac*dy*dy
-               end do
+               end do neighbours
             end do
          end do
       end do
@@ -83,17 +84,17 @@ contains
          wsum(i) = p%mass(i)/p%rho(i)*prm%w0
       end do
       do c = 1, g%ncell - g%nx - 1
-         do i = g%cstart(c), g%cstart(c + 1) - 1
-            if (p%kind(i) /= kind_fluid) cycle
+         particles: do i = g%cstart(c), g%cstart(c + 1) - 1
+            if (p%kind(i) /= kind_fluid) cycle particles
             jlo = [i + 1, g%cstart(c + g%nx - 1)]
             jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
             do r = 1, 2
-               do j = jlo(r), jhi(r)
-                  if (p%kind(j) /= kind_fluid) cycle
+               neighbours: do j = jlo(r), jhi(r)
+                  if (p%kind(j) /= kind_fluid) cycle neighbours
                   dx = p%x(1, i) - p%x(1, j)
                   dy = p%x(2, i) - p%x(2, j)
                   r2 = dx*dx + dy*dy
-                  if (r2 >= prm%support2) cycle
+                  if (r2 >= prm%support2) cycle neighbours
                   q = sqrt(r2)*hinv
                   if (prm%kernel == kernel_cubic) then
                      w = prm%aw*KW_CUBIC(q)
@@ -104,9 +105,9 @@ contains
                   wsum(i) = wsum(i) + p%mass(j)/p%rho(j)*w
                   msum(j) = msum(j) + p%mass(i)*w
                   wsum(j) = wsum(j) + p%mass(i)/p%rho(i)*w
-               end do
+               end do neighbours
             end do
-         end do
+         end do particles
       end do
       do i = 1, p%n
          if (p%kind(i) == kind_fluid) p%rho(i) = msum(i)/wsum(i)

@@ -3,6 +3,7 @@
 module logger
    use, intrinsic :: iso_c_binding, only: c_int
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+   use constants, only: msg_len
    use comm, only: comm_rank
    implicit none
    private
@@ -15,6 +16,7 @@ module logger
    interface
       function c_isatty(fd) bind(C, name='isatty') result(r)
          import :: c_int
+         implicit none
          integer(c_int), value :: fd
          integer(c_int) :: r
       end function c_isatty
@@ -27,12 +29,13 @@ contains
       character(len=*), intent(in) :: path
       logical, intent(in) :: append
       integer :: ios
+      character(len=msg_len) :: msg
       if (comm_rank() /= 0) return
       tty = c_isatty(1_c_int) == 1
       if (append) then
-         open (newunit=log_unit, file=path, status='unknown', position='append', action='write', iostat=ios)
+         open (newunit=log_unit, file=path, status='unknown', position='append', action='write', iostat=ios, iomsg=msg)
       else
-         open (newunit=log_unit, file=path, status='replace', action='write', iostat=ios)
+         open (newunit=log_unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       end if
       if (ios /= 0) log_unit = -1
    end subroutine log_open

@@ -13,7 +13,7 @@ module run_state
       integer :: isnap = 0            !< index of the next snapshot
       integer :: ienergy = 0          !< index of the next energy.csv row
       real(rp) :: t_next_snap = 0.0_rp   !< time the next snapshot is due [s]
-      real(rp) :: t_next_energy = 0.0_rp !< time the next energy row is due [s]
+      real(rp) :: t_next_energy = 0.0_rp  !< time the next energy row is due [s]
       integer :: lost_domain = 0      !< fluid particles that left the domain
       integer :: lost_density = 0     !< fluid particles removed for non-physical density
       integer :: n_fluid0 = 0         !< fluid particles at the start of the run

@@ -69,9 +69,9 @@ contains
       ny = nint((maxval(o%v(2, :)) - y0)/dp)
       call particles_grow(p, nx*ny)
       do j = 1, ny
-         do i = 1, nx
+         columns: do i = 1, nx
             pt = [x0 + (i - 0.5_rp)*dp, y0 + (j - 0.5_rp)*dp]
-            if (.not. point_in_polygon(pt, o%v)) cycle
+            if (.not. point_in_polygon(pt, o%v)) cycle columns
             p%n = p%n + 1
             k = p%n
             p%x(:, k) = pt
@@ -85,7 +85,7 @@ contains
                p%body(k) = obj
                p%nrm(:, k) = nearest_edge_normal(pt, o%v)
             end if
-         end do
+         end do columns
       end do
    end subroutine add_lattice
 

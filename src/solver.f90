@@ -53,7 +53,7 @@ contains
       if (c%run%restart) then
          call checkpoint_read(out, p, st)
          call params_init(c, st%y_surface - st%h_swl, st%y_surface, prm)
-         call log_line('MBSPH: restart of case '''//trim(c%run%case_name)//''' from '//out// &
+         call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//out// &
                        '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
       else
          call scene_build(c, p, prm)
@@ -86,8 +86,9 @@ contains
          call timer_start(t_grid)
          call remove_particles()
          call grid_sort(g, p, drop)
-         if (prm%kgc == kgc_shepard .and. mod(st%istep + 1, prm%shepard_every) == 0) &
+         if (prm%kgc == kgc_shepard .and. mod(st%istep + 1, prm%shepard_every) == 0) then
             call shepard_filter(prm, g, p, scratch1, scratch2)
+         end if
          call timer_stop(t_grid)
          call step_advance(prm, g, p, w, cfg%objs, any_moving(), st%t, st%istep + 1, st%dt)
          st%t = st%t + st%dt
@@ -235,7 +236,7 @@ contains
 
    subroutine banner()
       character(len=:), allocatable :: fx
-      call log_line('MBSPH case '''//trim(cfg%run%case_name)//''' from '//trim(cfg%file))
+      call log_line("MBSPH case '"//trim(cfg%run%case_name)//"' from "//trim(cfg%file))
       call log_line('  particles: '//int_str(p%n)//' ('//kind_name(kind_fluid)//' '// &
                     int_str(particles_count_kind(p, kind_fluid))//', '//kind_name(kind_fixed)//' '// &
                     int_str(particles_count_kind(p, kind_fixed))//', '//kind_name(kind_moving)//' '// &

@@ -1,0 +1,168 @@
+!> Neighbour grid: the pairs found by the half stencil equal the brute-force
+!> set (each pair exactly once) for random sets with a dense cluster, empty
+!> cells and points on cell edges; dropped particles leave the store; the
+!> production pair loop gives the brute-force continuity and pressure sums.
+module test_grid_state
+   use kinds, only: rp
+   use particles, only: particles_t
+   implicit none
+   private
+   public :: p, seen, record
+   type(particles_t) :: p
+   integer, allocatable :: seen(:, :)
+contains
+   subroutine record(i, j, r2)
+      integer, intent(in) :: i, j
+      real(rp), intent(in) :: r2
+      if (r2 < 0.0_rp) return
+      seen(p%id(i), p%id(j)) = seen(p%id(i), p%id(j)) + 1
+   end subroutine record
+end module test_grid_state
+
+program test_grid
+   use test_grid_state, only: p, seen, record
+   use kinds, only: rp
+   use constants, only: kind_fluid, kind_fixed
+   use particles, only: particles_alloc
+   use grid, only: grid_t, grid_init, grid_sort, grid_visit_pairs
+   use params, only: params_t, visc_artificial, diff_none, kgc_none, integ_symplectic
+   use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw
+   use fluid_forces, only: forces_work_t, forces_init, forces_compute
+   use testing, only: check, check_close, test_summary
+   implicit none
+   integer, parameter :: n = 900
+   type(grid_t) :: g
+   type(params_t) :: prm
+   type(forces_work_t) :: w
+   logical, allocatable :: drop(:)
+   real(rp) :: h, r(2), d(2), gw(2), dr, a(2), err_d, err_a, scale_d, scale_a, pij
+   integer :: i, j, nbad, nmiss, ndup, kk
+   integer, parameter :: kernels(2) = [kernel_wendland, kernel_cubic]
+
+   h = 0.02_rp
+   call particles_alloc(p, n)
+   p%n = n
+   p%n_id = n
+   call random_seed_fixed()
+   do i = 1, n
+      call random_number(r)
+      if (i <= 400) then            ! dense cluster: many particles per cell
+         p%x(:, i) = [0.3_rp, 0.2_rp] + 0.03_rp*(r - 0.5_rp)
+      else if (i <= 450) then       ! exactly on cell edges
+         p%x(:, i) = [0.04_rp*mod(i, 20), 0.04_rp*mod(i, 13)]
+      else                          ! sparse, leaving empty cells
+         p%x(:, i) = [r(1), 0.6_rp*r(2)]
+      end if
+      p%id(i) = i
+      p%kind(i) = merge(kind_fixed, kind_fluid, mod(i, 7) == 0)
+      p%mass(i) = 1.0_rp + 0.1_rp*mod(i, 5)
+      call random_number(r)
+      p%v(:, i) = r - 0.5_rp
+      call random_number(r)
+      p%rho(i) = 1000.0_rp*(1.0_rp + 0.01_rp*(r(1) - 0.5_rp))
+   end do
+   call grid_init(g, 0.0_rp, 1.0_rp, 0.0_rp, 0.6_rp, h)
+   allocate (drop(n))
+   drop = .false.
+   call grid_sort(g, p, drop)
+   call check(p%n == n, 'no particle lost by sorting')
+
+   ! every pair within 2h visited exactly once
+   allocate (seen(n, n))
+   seen = 0
+   call grid_visit_pairs(g, p%x, 4.0_rp*h*h, record)
+   nmiss = 0; ndup = 0; nbad = 0
+   do j = 1, n
+      do i = j + 1, n
+         dr = norm2(p%x(:, p_of(i)) - p%x(:, p_of(j)))
+         if (dr < 2.0_rp*h) then
+            if (seen(i, j) + seen(j, i) == 0) nmiss = nmiss + 1
+            if (seen(i, j) + seen(j, i) > 1) ndup = ndup + 1
+         else if (seen(i, j) + seen(j, i) > 0) then
+            nbad = nbad + 1
+         end if
+      end do
+   end do
+   call check(nmiss == 0, 'no pair within 2h missed')
+   call check(ndup == 0, 'no pair visited twice')
+   call check(nbad == 0, 'no pair beyond 2h visited')
+   call check(count(seen > 0) > 10*n, 'the set has many pairs (test is not vacuous)')
+
+   ! the production pair loop: continuity and pressure sums against brute force
+   do kk = 1, 2
+      prm%dp = h/1.3_rp
+      prm%h = h; prm%h2 = h*h; prm%support2 = 4.0_rp*h*h; prm%eta2 = 0.01_rp*h*h
+      prm%kernel = kernels(kk)
+      prm%aw = kernel_norm(prm%kernel, h); prm%fw = prm%aw/prm%h2; prm%w0 = prm%aw
+      prm%rho0 = 1000.0_rp; prm%gamma = 7.0_rp; prm%g = 0.0_rp; prm%c0 = 20.0_rp
+      prm%b = prm%c0**2*prm%rho0/prm%gamma
+      prm%visc = visc_artificial; prm%alpha = 0.0_rp
+      prm%diffusion = diff_none; prm%kgc = kgc_none; prm%integrator = integ_symplectic
+      call forces_init(prm)
+      call forces_compute(prm, g, p, w)
+      err_d = 0.0_rp; err_a = 0.0_rp; scale_d = 0.0_rp; scale_a = 0.0_rp
+      do i = 1, n
+         dr = 0.0_rp
+         a = 0.0_rp
+         do j = 1, n
+            if (j == i) cycle
+            if (p%kind(i) /= kind_fluid .and. p%kind(j) /= kind_fluid) cycle
+            d = p%x(:, i) - p%x(:, j)
+            if (dot_product(d, d) >= 4.0_rp*h*h) cycle
+            gw = kernel_gradw(prm%kernel, d, h)
+            dr = dr + p%mass(j)*dot_product(p%v(:, i) - p%v(:, j), gw)
+            pij = (p%p(i) + p%p(j))/(p%rho(i)*p%rho(j))
+            a = a - p%mass(j)*pij*gw
+         end do
+         err_d = max(err_d, abs(dr - w%drho(i)))
+         err_a = max(err_a, norm2(a - w%acc(:, i)))
+         scale_d = max(scale_d, abs(dr))
+         scale_a = max(scale_a, norm2(a))
+      end do
+      call check_close(err_d, 0.0_rp, 1.0_rp, 'pair loop continuity = brute force', floor=1.0e-12_rp*scale_d)
+      call check_close(err_a, 0.0_rp, 1.0_rp, 'pair loop pressure force = brute force', floor=1.0e-12_rp*scale_a)
+   end do
+
+   ! dropped particles leave the store; the rest keep their ids
+   drop = .false.
+   drop(1:n:3) = .true.
+   call grid_sort(g, p, drop)
+   call check(p%n == n - count(drop), 'dropped particles removed')
+   call check(size(unique_ids()) == p%n, 'ids stay unique after dropping')
+   call test_summary('test_grid')
+
+contains
+
+   !> Index of the particle with a given id (the store is sorted by cell).
+   integer function p_of(id)
+      integer, intent(in) :: id
+      integer :: k
+      p_of = 0
+      do k = 1, p%n
+         if (p%id(k) == id) then
+            p_of = k
+            return
+         end if
+      end do
+   end function p_of
+
+   function unique_ids() result(u)
+      integer, allocatable :: u(:)
+      logical :: mark(n)
+      integer :: k
+      mark = .false.
+      do k = 1, p%n
+         mark(p%id(k)) = .true.
+      end do
+      u = pack([(k, k=1, n)], mark)
+   end function unique_ids
+
+   subroutine random_seed_fixed()
+      integer :: m
+      integer, allocatable :: s(:)
+      call random_seed(size=m)
+      allocate (s(m))
+      s = 12345
+      call random_seed(put=s)
+   end subroutine random_seed_fixed
+end program test_grid
