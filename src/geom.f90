@@ -71,10 +71,10 @@ contains
 
    !> True when the interiors of two polygons overlap by more than a
    !> tolerance (polygons that only share an edge or a vertex do not).
-   pure logical function polygons_overlap(a, b, tol) result(ov)
-      real(rp), intent(in) :: a(:, :), b(:, :), tol
-      integer :: i, j, k, l, na, nb
-      real(rp) :: c(2), scale
+   pure logical function polygons_overlap(a, b, tol, step) result(ov)
+      real(rp), intent(in) :: a(:, :), b(:, :), tol, step
+      integer :: i, j, k, l, na, nb, nx, ny
+      real(rp) :: c(2), scale, lo(2), hi(2)
       na = size(a, 2); nb = size(b, 2)
       ov = .false.
       scale = tol*max(maxval(abs(a)), maxval(abs(b)), 1.0_rp)
@@ -88,8 +88,9 @@ contains
             end if
          end do
       end do
-      ! no proper crossing: one may contain the other; test vertices that are
-      ! not on the other's outline, and the centroids
+      ! no proper crossing: one may contain the other (a vertex strictly
+      ! inside), or they share area along collinear edges; sample the common
+      ! bounding box at spacing step for a point strictly inside both
       do i = 1, na
          if (point_in_polygon(a(:, i), b) .and. distance_to_polygon(a(:, i), b) > scale) then
             ov = .true.; return
@@ -100,12 +101,20 @@ contains
             ov = .true.; return
          end if
       end do
-      c = sum(a, dim=2)/na
-      if (point_in_polygon(c, b) .and. point_in_polygon(c, a) .and. distance_to_polygon(c, b) > scale) then
-         ov = .true.; return
-      end if
-      c = sum(b, dim=2)/nb
-      if (point_in_polygon(c, a) .and. point_in_polygon(c, b) .and. distance_to_polygon(c, a) > scale) ov = .true.
+      lo = max(minval(a, dim=2), minval(b, dim=2))
+      hi = min(maxval(a, dim=2), maxval(b, dim=2))
+      if (any(hi - lo <= scale)) return
+      nx = max(1, ceiling((hi(1) - lo(1))/step))
+      ny = max(1, ceiling((hi(2) - lo(2))/step))
+      do j = 1, ny
+         samples: do i = 1, nx
+            c = lo + ([real(i, rp), real(j, rp)] - 0.5_rp)*(hi - lo)/[real(nx, rp), real(ny, rp)]
+            if (.not. (point_in_polygon(c, a) .and. point_in_polygon(c, b))) cycle samples
+            if (distance_to_polygon(c, a) > scale .and. distance_to_polygon(c, b) > scale) then
+               ov = .true.; return
+            end if
+         end do samples
+      end do
    end function polygons_overlap
 
    !> Any two non-adjacent edges crossing.

@@ -57,7 +57,7 @@ contains
          others: do k = 1, size(c%objs)
             if (k == i) cycle others
             if (c%objs(k)%role == 'fluid' .and. k < i) cycle others
-            if (polygons_overlap(c%objs(i)%v, c%objs(k)%v, 1.0e-9_rp)) then
+            if (polygons_overlap(c%objs(i)%v, c%objs(k)%v, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
                gi = obj_name(c%objs(i))
                gk = obj_name(c%objs(k))
                call input_error(file, gi, '', 'the fluid overlaps '//trim(c%objs(k)%role)//' object &'//gk// &

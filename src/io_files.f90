@@ -9,7 +9,8 @@ module io_files
    private
    public :: outdir_prepare, file_exists, file_text, snap_name, energy_open, energy_row, energy_close
 
-   integer :: energy_unit = -1
+   integer :: energy_unit = 0
+   logical :: energy_opened = .false.   !< newunit= numbers are negative: keep a flag
 
 contains
 
@@ -136,6 +137,7 @@ contains
       end if
       open (newunit=energy_unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
+      energy_opened = .true.
       write (energy_unit, '(a)') 'time,step,kinetic,potential,total_mass,n_fluid,lost'
       if (len(keep) > 0) write (energy_unit, '(a)', advance='no') keep
       flush (energy_unit)
@@ -144,14 +146,14 @@ contains
    subroutine energy_row(t, istep, ekin, epot, mass, n_fluid, lost)
       real(rp), intent(in) :: t, ekin, epot, mass
       integer, intent(in) :: istep, n_fluid, lost
-      if (energy_unit < 0) return
+      if (.not. energy_opened) return
       write (energy_unit, '(es23.15e3,",",i0,3(",",es23.15e3),",",i0,",",i0)') t, istep, ekin, epot, mass, &
          n_fluid, lost
       flush (energy_unit)
    end subroutine energy_row
 
    subroutine energy_close()
-      if (energy_unit >= 0) close (energy_unit)
-      energy_unit = -1
+      if (energy_opened) close (energy_unit)
+      energy_opened = .false.
    end subroutine energy_close
 end module io_files

@@ -9,7 +9,8 @@ module logger
    private
    public :: log_open, log_close, log_line, log_error, log_progress, log_is_open
 
-   integer :: log_unit = -1
+   integer :: log_unit = 0
+   logical :: log_opened = .false.   !< newunit= numbers are negative: keep a flag
    logical :: tty = .false.
    logical :: progress_pending = .false.   !< an in-place line is on the screen
 
@@ -37,16 +38,16 @@ contains
       else
          open (newunit=log_unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       end if
-      if (ios /= 0) log_unit = -1
+      log_opened = ios == 0
    end subroutine log_open
 
    logical function log_is_open()
-      log_is_open = log_unit >= 0
+      log_is_open = log_opened
    end function log_is_open
 
    subroutine log_close()
-      if (log_unit >= 0) close (log_unit)
-      log_unit = -1
+      if (log_opened) close (log_unit)
+      log_opened = .false.
    end subroutine log_close
 
    subroutine end_progress()
@@ -63,7 +64,7 @@ contains
       call end_progress()
       write (output_unit, '(a)') text
       flush (output_unit)
-      if (log_unit >= 0) then
+      if (log_opened) then
          write (log_unit, '(a)') text
          flush (log_unit)
       end if
@@ -75,7 +76,7 @@ contains
       call end_progress()
       write (error_unit, '(a)') text
       flush (error_unit)
-      if (log_unit >= 0) then
+      if (log_opened) then
          write (log_unit, '(a)') text
          flush (log_unit)
       end if
@@ -93,7 +94,7 @@ contains
          write (output_unit, '(a)') text
          flush (output_unit)
       end if
-      if (log_unit >= 0) then
+      if (log_opened) then
          write (log_unit, '(a)') text
          flush (log_unit)
       end if

@@ -27,9 +27,9 @@ contains
       p%n_id = 0
       do k = 1, size(c%objs)
          if (c%objs(k)%group == 'slope') then
-            call add_slope(c%objs(k), k, dp, p)
+            call add_slope(c%objs(k), k, dp, p, c%objs(1:k - 1))
          else
-            call add_lattice(c%objs(k), k, dp, p)
+            call add_lattice(c%objs(k), k, dp, p, c%objs(1:k - 1))
          end if
       end do
       nf = count(p%kind(1:p%n) == kind_fluid)
@@ -56,8 +56,8 @@ contains
 
    !> Lattice points (spacing dp, half a spacing in from the bounding box)
    !> inside the object's polygon.
-   subroutine add_lattice(o, obj, dp, p)
-      type(geom_object), intent(in) :: o
+   subroutine add_lattice(o, obj, dp, p, earlier)
+      type(geom_object), intent(in) :: o, earlier(:)
       integer, intent(in) :: obj
       real(rp), intent(in) :: dp
       type(particles_t), intent(inout) :: p
@@ -72,6 +72,9 @@ contains
          columns: do i = 1, nx
             pt = [x0 + (i - 0.5_rp)*dp, y0 + (j - 0.5_rp)*dp]
             if (.not. point_in_polygon(pt, o%v)) cycle columns
+            if (o%role == 'solid') then
+               if (inside_earlier_solid(pt, earlier)) cycle columns
+            end if
             p%n = p%n + 1
             k = p%n
             p%x(:, k) = pt
@@ -90,12 +93,12 @@ contains
    end subroutine add_lattice
 
    !> Rows of particles parallel to the slope line, below it.
-   subroutine add_slope(o, obj, dp, p)
-      type(geom_object), intent(in) :: o
+   subroutine add_slope(o, obj, dp, p, earlier)
+      type(geom_object), intent(in) :: o, earlier(:)
       integer, intent(in) :: obj
       real(rp), intent(in) :: dp
       type(particles_t), intent(inout) :: p
-      real(rp) :: a(2), b(2), t(2), nrm(2), len, ds
+      real(rp) :: a(2), b(2), t(2), nrm(2), len, ds, pt(2)
       integer :: i, l, ns, k
       a = o%line(1:2)
       b = o%line(3:4)
@@ -106,15 +109,34 @@ contains
       ds = len/ns
       call particles_grow(p, ns*o%layers)
       do l = 1, o%layers
-         do i = 1, ns
+         along: do i = 1, ns
+            pt = a + (i - 0.5_rp)*ds*t - (l - 0.5_rp)*dp*nrm
+            if (inside_earlier_solid(pt, earlier)) cycle along
             p%n = p%n + 1
             k = p%n
-            p%x(:, k) = a + (i - 0.5_rp)*ds*t - (l - 0.5_rp)*dp*nrm
-            p%xb(:, k) = p%x(:, k)
+            p%x(:, k) = pt
+            p%xb(:, k) = pt
             p%kind(k) = kind_fixed
             p%body(k) = obj
             p%nrm(:, k) = nrm
-         end do
+         end do along
       end do
    end subroutine add_slope
+
+   !> Solids may overlap (a slope resting on a floor, boxes sharing a corner):
+   !> where they do, the earlier object keeps its particles and the later one
+   !> leaves the shared area empty, so no two wall particles sit together.
+   logical function inside_earlier_solid(pt, earlier) result(inside)
+      real(rp), intent(in) :: pt(2)
+      type(geom_object), intent(in) :: earlier(:)
+      integer :: e
+      inside = .false.
+      do e = 1, size(earlier)
+         if (earlier(e)%role /= 'solid') cycle
+         if (point_in_polygon(pt, earlier(e)%v)) then
+            inside = .true.
+            return
+         end if
+      end do
+   end function inside_earlier_solid
 end module scene
