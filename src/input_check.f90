@@ -187,18 +187,61 @@ contains
       character(len=*), intent(in) :: file, group, msg
       integer, intent(in) :: ios
       integer :: k
+      character(len=msg_len) :: tok, var
       failed = .false.
       if (ios == 0) return
       if (is_iostat_end(ios)) return
       failed = .true.
       k = index(msg, 'Cannot match namelist object name')
       if (k > 0) then
-         call input_error(file, group, adjustl(trim(msg(k + 33:))), &
+         ! the reader also lands here when a value cannot be read: it takes
+         ! the unreadable text for the next variable name
+         tok = adjustl(msg(k + 33:))
+         var = variable_before(file, trim(tok))
+         if (len_trim(var) > 0) then
+            call input_error(file, group, trim(var), 'cannot read the value '//trim(tok)// &
+                             ' (a number, a quoted string or .true./.false. is expected)')
+         end if
+         call input_error(file, group, trim(tok), &
                           'unknown variable in this group (see doc/input.md for the variables of &'//trim(group)//')')
       else
          call input_error(file, group, '', 'cannot read the group: '//trim(msg))
       end if
    end function read_failed
+
+   !> Name of the variable whose value is the text tok ('name = tok' in the
+   !> file, case-insensitive), or blank when tok is not such a value.
+   function variable_before(file, tok) result(var)
+      character(len=*), intent(in) :: file, tok
+      character(len=msg_len) :: var
+      character(len=4096) :: buf, low
+      character(len=msg_len) :: msg
+      integer :: u, ios, k, e, b
+      var = ''
+      if (len_trim(tok) == 0) return
+      u = open_case(file)
+      lines: do
+         read (u, '(a)', iostat=ios, iomsg=msg) buf
+         if (ios /= 0) exit lines
+         low = lower(buf)
+         k = index(low, lower(trim(tok)))
+         if (k <= 1) cycle lines
+         e = len_trim(low(1:k - 1))
+         if (e < 1) cycle lines
+         if (low(e:e) /= '=') cycle lines
+         e = len_trim(low(1:e - 1))
+         b = e
+         name_start: do while (b > 1)
+            if (verify(low(b - 1:b - 1), 'abcdefghijklmnopqrstuvwxyz0123456789_') /= 0) exit name_start
+            b = b - 1
+         end do name_start
+         if (e >= b) then
+            var = low(b:e)
+            exit lines
+         end if
+      end do lines
+      close (u)
+   end function variable_before
 
    !> Stop unless lo <= x <= hi (bounds open where lo_open / hi_open are set).
    subroutine check_real(file, group, var, x, lo, hi, lo_open, hi_open)

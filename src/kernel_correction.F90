@@ -25,7 +25,8 @@ contains
       type(particles_t), intent(in) :: p
       real(rp), intent(out) :: lm(:, :)
       integer :: c, i, j, r, jlo(2), jhi(2)
-      real(rp) :: dx, dy, r2, q, fac, vi, vj, a11, a12, a22, det, hinv
+      real(rp) :: dx, dy, r2, q, fac, vi, vj, a11, a12, a22, det, hinv, wgt
+      real(rp), parameter :: det_full = 0.75_rp, det_none = 0.5_rp
       hinv = 1.0_rp/prm%h
       lm(:, 1:p%n) = 0.0_rp
       ! B = sum_j V_j grad W_ij (x_j - x_i)^T = -sum_j V_j F r r^T (symmetric)
@@ -60,9 +61,13 @@ contains
       do i = 1, p%n
          a11 = lm(1, i); a12 = lm(2, i); a22 = lm(3, i)
          det = a11*a22 - a12*a12
-         ! a full support gives B = I; far from it the inverse amplifies noise
-         if (abs(det) > 0.25_rp) then
-            lm(:, i) = [a22, -a12, a11]/det
+         ! a full support gives det(B) = 1. Near a free surface the support is
+         ! cut and the inverse would amplify forces there (an instability):
+         ! blend from the full correction at det >= det_full to none at
+         ! det <= det_none, continuously.
+         wgt = min(max((det - det_none)/(det_full - det_none), 0.0_rp), 1.0_rp)
+         if (wgt > 0.0_rp) then
+            lm(:, i) = wgt*[a22, -a12, a11]/det + (1.0_rp - wgt)*[1.0_rp, 0.0_rp, 1.0_rp]
          else
             lm(:, i) = [1.0_rp, 0.0_rp, 1.0_rp]
          end if

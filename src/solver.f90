@@ -15,6 +15,7 @@ module solver
    use fluid_forces, only: forces_work_t, forces_init
    use kernel_correction, only: shepard_filter
    use step, only: step_advance
+   use bc_motion, only: motion_apply
    use run_state, only: state_t
    use io_hdf5, only: h5_start, h5_stop
    use io_files, only: outdir_prepare, file_text, energy_open, energy_row, energy_close, snap_name
@@ -57,6 +58,8 @@ contains
                        '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
       else
          call scene_build(c, p, prm)
+         ! moving walls start on their motion: position and velocity at t = 0
+         if (any(p%kind(1:p%n) == kind_moving)) call motion_apply(c%objs, p, 0.0_rp)
          st%n_fluid0 = particles_count_kind(p, kind_fluid)
          st%h_swl = prm%h_swl
          st%y_surface = prm%y_surface

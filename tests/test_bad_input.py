@@ -1,0 +1,241 @@
+"""Bad input: every case below must stop before any particle output with exit code 2
+and one message on stderr of the form
+
+    mbsph: error: FILE: &group: variable: message
+
+naming the file, the group, the variable (where there is one) and the allowed range
+or choices (src/errors.f90, src/input_check.f90). Each case changes one thing in the
+valid case BASE, which test_base_case_is_valid shows to run.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+from conftest import EXIT_INPUT, assert_ok, describe, run_case
+
+pytestmark = pytest.mark.usefixtures("mbsph")
+
+CASE = "case.nml"
+
+# A valid case: a small water column on the floor of a domain 0.6 m wide. One step
+# is enough to show that it runs.
+BASE = """\
+&run
+  case_name = 'bad_input'
+  t_end = 0.01
+  dt_out = 0.01
+  out_dir = 'OUT'
+  max_steps = 1
+/
+&domain
+  xmin = -0.1, xmax = 0.5, ymin = -0.1, ymax = 0.5
+/
+&fluid
+  rho0 = 1000.0, gamma = 7.0
+/
+&numerics
+  dp = 0.02
+  kernel = 'wendland'
+  integrator = 'symplectic'
+  cfl = 0.2
+/
+&box role = 'fluid', xmin = 0.0, xmax = 0.1, ymin = 0.0, ymax = 0.2 /
+&box role = 'solid', xmin = -0.06, xmax = 0.46, ymin = -0.06, ymax = 0.0 /
+"""
+
+
+def edit(old: str, new: str, text: str = BASE) -> str:
+    """``text`` with ``old`` replaced once by ``new``; ``old`` must be there."""
+    assert text.count(old) == 1, f"the test's own edit {old!r} does not match BASE once"
+    return text.replace(old, new)
+
+
+def drop_group(name: str) -> str:
+    """BASE without the group &name (from its opening line to its closing '/')."""
+    out = re.sub(rf"(?ms)^&{name}\b.*?^/\n", "", BASE)
+    assert out != BASE and f"&{name}" not in out
+    return out
+
+
+@dataclass(frozen=True)
+class Bad:
+    text: str
+    group: str                      # as the message names it: 'numerics', 'box #1', ...
+    var: str = ""                   # '' when the error is about the whole group
+    range: tuple[float, float] | None = None      # allowed [lo, hi] the message must state
+    choices: tuple[str, ...] = ()   # allowed values the message must list
+    words: tuple[str, ...] = field(default_factory=tuple)   # other fragments the message must hold
+
+
+POLYGON_2 = "&polygon role = 'solid', nvert = 2, x = 0.2, 0.3, y = 0.1, 0.1 /\n"
+# a quadrilateral whose second and fourth edges cross (non-zero signed area, so it
+# is the crossing, not a zero area, that must be reported)
+POLYGON_CROSSED = "&polygon role = 'solid', nvert = 4, x = 0.2, 0.4, 0.4, 0.2, y = 0.1, 0.3, 0.1, 0.2 /\n"
+
+CASES: dict[str, Bad] = {
+    "unknown_variable": Bad(edit("  dp = 0.02\n", "  dp = 0.02\n  smoothing = 1.5\n"), "numerics", "smoothing",
+                            words=("unknown variable",)),
+    "missing_run": Bad(drop_group("run"), "run", words=("missing",)),
+    "missing_domain": Bad(drop_group("domain"), "domain", words=("missing",)),
+    "missing_numerics": Bad(drop_group("numerics"), "numerics", words=("missing",)),
+    "missing_dp": Bad(edit("  dp = 0.02\n", ""), "numerics", "dp", words=("required", "> 0")),
+    # dp: (0, 1e3] m (src/input_numerics.f90)
+    "dp_zero": Bad(edit("dp = 0.02", "dp = 0.0"), "numerics", "dp", range=(0.0, 1.0e3)),
+    "dp_negative": Bad(edit("dp = 0.02", "dp = -0.01"), "numerics", "dp", range=(0.0, 1.0e3)),
+    # h_over_dp: [1, 2]
+    "h_over_dp_3": Bad(edit("dp = 0.02", "dp = 0.02, h_over_dp = 3.0"), "numerics", "h_over_dp",
+                       range=(1.0, 2.0)),
+    "kernel_gauss": Bad(edit("kernel = 'wendland'", "kernel = 'gauss'"), "numerics", "kernel",
+                        choices=("wendland", "cubic"), words=("gauss",)),
+    "integrator_euler": Bad(edit("integrator = 'symplectic'", "integrator = 'euler'"), "numerics", "integrator",
+                            choices=("symplectic", "predictor_corrector", "verlet"), words=("euler",)),
+    # cfl: (0, 0.5]
+    "cfl_0.9": Bad(edit("cfl = 0.2", "cfl = 0.9"), "numerics", "cfl", range=(0.0, 0.5)),
+    # the fluid box reaches y = 0.7 above the domain's ymax = 0.5: the message gives the
+    # domain [-0.1, 0.5] x [-0.1, 0.5]
+    "fluid_outside_domain": Bad(edit("ymin = 0.0, ymax = 0.2", "ymin = 0.0, ymax = 0.7"), "box #1",
+                                range=(-0.1, 0.5), words=("outside", "&domain")),
+    # the fluid box goes 0.02 m into the floor (&box #2)
+    "fluid_overlaps_wall": Bad(edit("ymin = 0.0, ymax = 0.2", "ymin = -0.02, ymax = 0.2"), "box #1",
+                               words=("overlaps", "box #2")),
+    "restart_without_checkpoint": Bad(edit("max_steps = 1\n", "max_steps = 1\n  restart = .true.\n"), "run",
+                                      "restart", words=("checkpoint.h5",)),
+    "box_xmax_below_xmin": Bad(edit("xmin = 0.0, xmax = 0.1", "xmin = 0.1, xmax = 0.0"), "box #1", "xmax",
+                               words=("xmin",)),
+    # nvert: [3, 100]
+    "polygon_nvert_2": Bad(BASE + POLYGON_2, "polygon #1", "nvert", range=(3, 100)),
+    "polygon_crosses_itself": Bad(BASE + POLYGON_CROSSED, "polygon #1", "x, y", words=("crosses itself",)),
+    # t_end: (0, 1e6] s
+    "t_end_negative": Bad(edit("t_end = 0.01", "t_end = -1.0"), "run", "t_end", range=(0.0, 1.0e6)),
+    # gamma: [1, 10]
+    "gamma_zero": Bad(edit("gamma = 7.0", "gamma = 0.0"), "fluid", "gamma", range=(1.0, 10.0)),
+    "dp_malformed": Bad(edit("dp = 0.02", "dp = 'abc'"), "numerics", "dp"),
+    "run_twice": Bad(BASE + "&run case_name = 'again' /\n", "run", words=("more than once",)),
+}
+
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
+_RANGE_RE = re.compile(rf"([\[(])\s*({_NUMBER})\s*,\s*({_NUMBER}|infinity)\s*([\])])")
+
+
+def error_line(proc) -> str:
+    """The 'mbsph: error: ...' line of stderr (the test fails when there is none)."""
+    lines = [ln for ln in proc.stderr.splitlines() if ln.startswith("mbsph: error: ")]
+    assert lines, f"no 'mbsph: error: ' line on stderr\n{describe(proc)}"
+    return lines[0]
+
+
+def assert_no_output(tmp_path: Path) -> None:
+    snaps = sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("snap_*.h5"))
+    assert not snaps, f"bad input left particle output: {snaps}"
+    assert not (tmp_path / "OUT" / "snap_00000.h5").exists()
+
+
+def stated_ranges(message: str) -> list[tuple[float, float]]:
+    """Every interval '[lo, hi]', '(lo, hi]', ... stated in a message, as numbers."""
+    out = []
+    for _, lo, hi, _ in _RANGE_RE.findall(message):
+        out.append((float(lo.replace("d", "e").replace("D", "e")),
+                    float("inf") if hi == "infinity" else float(hi.replace("d", "e").replace("D", "e"))))
+    return out
+
+
+def test_base_case_is_valid(tmp_path: Path, mbsph: Path) -> None:
+    proc, out = run_case(BASE, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    assert (out / "snap_00000.h5").is_file()
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_bad_input(name: str, tmp_path: Path, mbsph: Path) -> None:
+    bad = CASES[name]
+    proc, _ = run_case(bad.text, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, f"expected exit code {EXIT_INPUT} for bad input\n{describe(proc)}"
+    msg = error_line(proc)
+    # the file, the group and the variable, in this order: 'FILE: &group: var: ...'
+    where = f"{CASE}: &{bad.group}: " + (f"{bad.var}: " if bad.var else "")
+    assert where in msg, f"the message should name {where!r}:\n{msg}"
+    for word in bad.words:
+        assert word in msg, f"the message should mention {word!r}:\n{msg}"
+    if bad.choices:
+        for choice in bad.choices:
+            assert f"'{choice}'" in msg, f"the message should list the choice '{choice}':\n{msg}"
+    if bad.range is not None:
+        lo, hi = bad.range
+        ranges = stated_ranges(msg)
+        assert any(r == pytest.approx((lo, hi), rel=1e-5) for r in ranges), \
+            f"the message should state the allowed range [{lo}, {hi}], it states {ranges}:\n{msg}"
+    assert_no_output(tmp_path)
+
+
+def test_error_is_one_message(tmp_path: Path, mbsph: Path) -> None:
+    # doc/input.md: "The first problem found stops the program with one message on standard
+    # error." Besides that message only the runtime's echo of the stop code may follow.
+    proc, _ = run_case(CASES["cfl_0.9"].text, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    extra = [ln for ln in lines if not ln.startswith("mbsph: error: ") and ln.strip() != "ERROR STOP 2"]
+    assert len(lines) - len(extra) >= 1 and not extra, (
+        f"stderr holds {len(extra)} lines besides the error message, starting with {extra[:3]}")
+
+
+def test_misspelt_group_suggests_the_right_one(tmp_path: Path, mbsph: Path) -> None:
+    text = edit("&numerics\n", "&numerix\n")
+    proc, _ = run_case(text, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    line = text.splitlines().index("&numerix") + 1
+    assert f"{CASE}: line {line}: " in msg, f"the message should name the file and line {line}:\n{msg}"
+    assert "&numerix" in msg and "did you mean &numerics?" in msg, msg
+    assert_no_output(tmp_path)
+
+
+def test_missing_case_file(tmp_path: Path, mbsph: Path) -> None:
+    import subprocess
+    proc = subprocess.run([str(mbsph), "no_such_case.nml"], cwd=tmp_path, capture_output=True, text=True,
+                          timeout=60, stdin=subprocess.DEVNULL)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    assert "no_such_case.nml" in msg and "cannot open" in msg, msg
+    assert_no_output(tmp_path)
+
+
+# ------------------------------------------------------------ output folder
+
+
+def folder_state(folder: Path) -> dict[str, tuple[int, bytes]]:
+    """Modification time (ns) and content of every file of a folder."""
+    return {p.name: (p.stat().st_mtime_ns, p.read_bytes()) for p in sorted(folder.iterdir()) if p.is_file()}
+
+
+def test_folder_holding_a_run_is_refused(tmp_path: Path, mbsph: Path) -> None:
+    # three snapshots (t = 0, 0.01, 0.02) of a valid run with overwrite = .false. (the default)
+    first = edit("max_steps = 1\n", "max_steps = 0\n", edit("t_end = 0.01", "t_end = 0.02"))
+    proc, out = run_case(first, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    before = folder_state(out)
+    assert "snap_00000.h5" in before
+    proc, _ = run_case(BASE, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, f"a second run into a folder that holds a run must stop\n{describe(proc)}"
+    msg = error_line(proc)
+    assert f"{CASE}: &run: out_dir: " in msg and "overwrite = .true." in msg, msg
+    assert folder_state(out) == before, "the refused run changed the files of the first run"
+
+
+def test_folder_holding_a_run_is_replaced_with_overwrite(tmp_path: Path, mbsph: Path) -> None:
+    first = edit("max_steps = 1\n", "max_steps = 0\n", edit("t_end = 0.01", "t_end = 0.02"))
+    proc, out = run_case(first, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    old = {p.name for p in out.glob("snap_*.h5")}
+    assert len(old) >= 3
+    second = edit("max_steps = 1\n", "max_steps = 1\n  overwrite = .true.\n")
+    proc, _ = run_case(second, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    # one step: the snapshot at t = 0 and the final one; the old run's later snapshots are gone
+    new = sorted(p.name for p in out.glob("snap_*.h5"))
+    assert new == ["snap_00000.h5", "snap_00001.h5"], f"snapshots after the overwrite: {new} (before: {sorted(old)})"
+    assert "OVERWRITE=T" in (out / "case.nml").read_text().upper().replace(" ", "")
