@@ -7,9 +7,10 @@ peak resident memory per particle, both raw (RSS / N) and marginal (the
 slope of RSS against N between sizes, which leaves out the fixed cost of
 the MPI and HDF5 libraries).
 
-    .venv/bin/python bench/run_bench.py [--sizes 1 2 4] [--steps 0 800 200]
+    .venv/bin/python bench/run_bench.py [--sizes 1 2 4] [--steps 0 800 200] [--t-end T]
 
---steps gives max_steps per size (0: the whole 0.5 s of flow).
+--steps gives max_steps per size (0: the whole 0.5 s of flow); --t-end runs
+every size for the same simulated time instead (no step limit).
 """
 import argparse
 import os
@@ -22,9 +23,11 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def make_case(template: str, dp: float, steps: int, out_dir: Path) -> str:
+def make_case(template: str, dp: float, steps: int, out_dir: Path, t_end: float | None) -> str:
     wall = 3 * dp  # three particle layers: more than the kernel support 2h
     text = template.replace("dp = 0.01,", f"dp = {dp!r},")
+    if t_end is not None:
+        text = text.replace("t_end = 0.5", f"t_end = {t_end!r}")
     text = text.replace("out_dir = 'OUT/bench'", f"out_dir = '{out_dir}'")
     text = text.replace("-0.03", repr(-wall)).replace("4.03", repr(4.0 + wall))
     if steps > 0:
@@ -49,6 +52,7 @@ def main() -> None:
     ap.add_argument("--sizes", type=int, nargs="+", default=[1, 2, 4], help="refinements: dp = 0.01 / size")
     ap.add_argument("--steps", type=int, nargs="+", default=[0, 800, 200],
                     help="max_steps per size (0 = the whole 0.5 s)")
+    ap.add_argument("--t-end", type=float, default=None, help="simulated time for every size (overrides --steps)")
     args = ap.parse_args()
     template = (ROOT / "bench" / "dambreak_bench.nml").read_text()
     rows = []
@@ -56,8 +60,10 @@ def main() -> None:
         for k, size in enumerate(args.sizes):
             dp = 0.01 / size
             steps = args.steps[k] if k < len(args.steps) else 0
+            if args.t_end is not None:
+                steps = 0
             case = Path(tmp) / f"bench_{size}.nml"
-            case.write_text(make_case(template, dp, steps, Path(tmp) / f"out_{size}"))
+            case.write_text(make_case(template, dp, steps, Path(tmp) / f"out_{size}", args.t_end))
             out, rss = run(case)
             n = int(re.search(r"particles: (\d+)", out).group(1))
             us = float(re.search(r"cost: ([\d.]+) microseconds", out).group(1))

@@ -187,6 +187,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"{T:8.3f} {zs:8.3f} {ze:8.3f}")
     if np.isfinite(result.max_rel_error):
         print(f"max relative error for 1 <= T <= 3: {100 * result.max_rel_error:.2f} %")
+        lo, hi = ERROR_WINDOW
+        w = (result.T >= lo - 1e-9) & (result.T <= hi + 1e-9) & np.isfinite(result.Z_exp)
+        if np.count_nonzero(w) >= 2:
+            s_sim = np.polyfit(result.T[w], result.Z_sim[w], 1)[0]
+            s_exp = np.polyfit(result.T[w], result.Z_exp[w], 1)[0]
+            print(f"front speed dZ/dT for 1 <= T <= 3: {s_sim:.3f}, experiment {s_exp:.3f} "
+                  f"({100 * (s_sim - s_exp) / s_exp:+.1f} %); mean lead {np.mean(result.Z_sim[w] - result.Z_exp[w]):.3f} a")
     else:
         print("max relative error for 1 <= T <= 3: no snapshot in that range")
     out = args.out_dir / "dambreak_front.png" if args.out is None else args.out

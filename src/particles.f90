@@ -25,6 +25,7 @@ module particles
 
    real(rp), allocatable :: rtmp(:)          ! scratch for permutations
    integer, allocatable :: itmp(:)
+   integer, allocatable :: moved(:)          ! slots whose particle changes
 
 contains
 
@@ -68,57 +69,81 @@ contains
    subroutine particles_permute(p, perm, nnew)
       type(particles_t), intent(inout) :: p
       integer, intent(in) :: perm(:), nnew
-      integer :: d
-      if (.not. allocated(rtmp)) allocate (rtmp(size(p%rho)))
-      if (size(rtmp) < size(p%rho)) then
-         deallocate (rtmp)
-         allocate (rtmp(size(p%rho)))
+      integer :: d, k, nmoved
+      ! Between two sorts few particles change cell: perm is the identity
+      ! almost everywhere. Only the moved slots are copied (their sources are
+      ! the same set of slots), which keeps the sort's memory traffic
+      ! proportional to the particles that moved, not to all of them.
+      if (.not. allocated(moved)) allocate (moved(size(p%rho)))
+      if (size(moved) < size(p%rho)) then
+         deallocate (moved)
+         allocate (moved(size(p%rho)))
       end if
-      if (.not. allocated(itmp)) allocate (itmp(size(p%rho)))
-      if (size(itmp) < size(p%rho)) then
-         deallocate (itmp)
-         allocate (itmp(size(p%rho)))
-      end if
-      do d = 1, ndim
-         call permute_row(p%x, d)
-         call permute_row(p%v, d)
-         call permute_row(p%nrm, d)
-         call permute_row(p%xb, d)
-         call permute_row(p%vm1, d)
+      nmoved = 0
+      do k = 1, nnew
+         if (perm(k) /= k) then
+            nmoved = nmoved + 1
+            moved(nmoved) = k
+         end if
       end do
-      call permute_real(p%rho)
-      call permute_real(p%p)
-      call permute_real(p%mass)
-      call permute_real(p%rhom1)
-      call permute_int(p%kind)
-      call permute_int(p%body)
-      call permute_int(p%id)
+      if (.not. allocated(rtmp)) allocate (rtmp(max(nmoved, 1)))
+      if (size(rtmp) < nmoved) then
+         deallocate (rtmp, itmp)
+         allocate (rtmp(max(nmoved, size(p%rho)/8)))
+      end if
+      if (.not. allocated(itmp)) allocate (itmp(size(rtmp)))
+      if (size(itmp) < size(rtmp)) then
+         deallocate (itmp)
+         allocate (itmp(size(rtmp)))
+      end if
+      if (nmoved > 0) then
+         do d = 1, ndim
+            call permute_row(p%x, d)
+            call permute_row(p%v, d)
+            call permute_row(p%nrm, d)
+            call permute_row(p%xb, d)
+            call permute_row(p%vm1, d)
+         end do
+         call permute_real(p%rho)
+         call permute_real(p%p)
+         call permute_real(p%mass)
+         call permute_real(p%rhom1)
+         call permute_int(p%kind)
+         call permute_int(p%body)
+         call permute_int(p%id)
+      end if
       p%n = nnew
    contains
       subroutine permute_row(a, row)
          real(rp), intent(inout) :: a(:, :)
          integer, intent(in) :: row
-         integer :: k
-         do k = 1, nnew
-            rtmp(k) = a(row, perm(k))
+         integer :: m
+         do m = 1, nmoved
+            rtmp(m) = a(row, perm(moved(m)))
          end do
-         a(row, 1:nnew) = rtmp(1:nnew)
+         do m = 1, nmoved
+            a(row, moved(m)) = rtmp(m)
+         end do
       end subroutine permute_row
       subroutine permute_real(a)
          real(rp), intent(inout) :: a(:)
-         integer :: k
-         do k = 1, nnew
-            rtmp(k) = a(perm(k))
+         integer :: m
+         do m = 1, nmoved
+            rtmp(m) = a(perm(moved(m)))
          end do
-         a(1:nnew) = rtmp(1:nnew)
+         do m = 1, nmoved
+            a(moved(m)) = rtmp(m)
+         end do
       end subroutine permute_real
       subroutine permute_int(a)
          integer, intent(inout) :: a(:)
-         integer :: k
-         do k = 1, nnew
-            itmp(k) = a(perm(k))
+         integer :: m
+         do m = 1, nmoved
+            itmp(m) = a(perm(moved(m)))
          end do
-         a(1:nnew) = itmp(1:nnew)
+         do m = 1, nmoved
+            a(moved(m)) = itmp(m)
+         end do
       end subroutine permute_int
    end subroutine particles_permute
 
