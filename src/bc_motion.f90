@@ -21,6 +21,7 @@ contains
       do i = 1, p%n
          if (p%kind(i) /= kind_moving) cycle
          b = p%body(i)
+         if (b > size(objs)) cycle            ! a prescribed body: moved by body_dynamics
          select case (objs(b)%motion)
          case ('oscillate')
             w = 2.0_rp*pi/objs(b)%period

@@ -19,6 +19,7 @@ module grid
       integer, allocatable :: cstart(:)   !< particles of cell c: cstart(c) .. cstart(c+1)-1
       integer, allocatable :: cell(:)     !< cell of each particle (scratch)
       integer, allocatable :: perm(:)     !< sort permutation (scratch)
+      integer, allocatable :: icell(:)    !< cell of each particle slot after the sort
    end type grid_t
 
 contains
@@ -50,16 +51,17 @@ contains
    !> Sort particles by cell. Particles with drop(i) set are moved past the
    !> end and forgotten; p%n shrinks accordingly. The sort is stable, so the
    !> order is a function of the previous order and the positions only.
-   subroutine grid_sort(g, p, drop)
+   subroutine grid_sort(g, p, drop, cells)
       type(grid_t), intent(inout) :: g
       type(particles_t), intent(inout) :: p
       logical, intent(in) :: drop(:)
+      logical, intent(in), optional :: cells   !< also fill g%icell (the contact loop needs it)
       integer :: i, c, n, nkeep
       n = p%n
       if (allocated(g%cell)) then
-         if (size(g%cell) < n) deallocate (g%cell, g%perm)
+         if (size(g%cell) < n) deallocate (g%cell, g%perm, g%icell)
       end if
-      if (.not. allocated(g%cell)) allocate (g%cell(size(p%rho)), g%perm(size(p%rho)))
+      if (.not. allocated(g%cell)) allocate (g%cell(size(p%rho)), g%perm(size(p%rho)), g%icell(size(p%rho)))
       g%cstart = 0
       do i = 1, n
          if (drop(i)) then
@@ -88,6 +90,13 @@ contains
       nkeep = g%cstart(g%ncell + 1) - 1
       call particles_permute(p, g%perm(1:n), nkeep)
       g%cstart(g%ncell + 2) = n + 1
+      if (present(cells)) then
+         if (cells) then
+            do c = 1, g%ncell
+               g%icell(g%cstart(c):g%cstart(c + 1) - 1) = c
+            end do
+         end if
+      end if
    end subroutine grid_sort
 
    !> Call visit(i, j, r2) once for every pair i /= j closer than sqrt(r2max),

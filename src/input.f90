@@ -9,6 +9,8 @@ module input
    use input_fluid, only: fluid_cfg, read_fluid, write_fluid
    use input_numerics, only: numerics_cfg, read_numerics, write_numerics
    use input_geometry, only: geom_object, read_geometry, write_geometry
+   use input_body, only: body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
+   use body_shapes, only: body_outline
    use geom, only: polygons_overlap
    use errors, only: input_error, fatal
    implicit none
@@ -22,6 +24,8 @@ module input
       type(fluid_cfg) :: fluid
       type(numerics_cfg) :: numerics
       type(geom_object), allocatable :: objs(:)
+      type(body_cfg), allocatable :: bodies(:)
+      type(contact_cfg) :: contact
    end type case_cfg
 
 contains
@@ -39,6 +43,8 @@ contains
       call read_fluid(file, c%fluid)
       call read_numerics(file, c%numerics)
       call read_geometry(file, c%numerics%dp, c%numerics%h_over_dp*c%numerics%dp, c%objs)
+      call read_bodies(file, c%numerics%dp, c%bodies)
+      call read_contact(file, c%contact)
 
       tol = 1.0e-9_rp*max(abs(c%domain%xmax - c%domain%xmin), abs(c%domain%ymax - c%domain%ymin))
       do i = 1, size(c%objs)
@@ -65,7 +71,40 @@ contains
             end if
          end do others
       end do
+      call check_bodies(c, tol)
    end subroutine read_case
+
+   !> Bodies inside the domain, not overlapping a wall or another body
+   !> (touching is allowed; fluid is carved around them).
+   subroutine check_bodies(c, tol)
+      type(case_cfg), intent(in) :: c
+      real(rp), intent(in) :: tol
+      integer :: i, k
+      real(rp), allocatable :: vi(:, :), vk(:, :)
+      character(len=16) :: bi, bk
+      do i = 1, size(c%bodies)
+         write (bi, '(i0)') i
+         vi = body_outline(c%bodies(i))
+         if (minval(vi(1, :)) < c%domain%xmin - tol .or. maxval(vi(1, :)) > c%domain%xmax + tol .or. &
+             minval(vi(2, :)) < c%domain%ymin - tol .or. maxval(vi(2, :)) > c%domain%ymax + tol) then
+            call input_error(c%file, 'body #'//trim(bi), '', 'the body reaches outside the &domain')
+         end if
+         walls: do k = 1, size(c%objs)
+            if (c%objs(k)%role /= 'solid') cycle walls
+            if (polygons_overlap(vi, c%objs(k)%v, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
+               call input_error(c%file, 'body #'//trim(bi), '', 'the body overlaps the solid &'// &
+                                obj_name(c%objs(k))//' (bodies may touch walls, not cut into them)')
+            end if
+         end do walls
+         do k = 1, i - 1
+            write (bk, '(i0)') k
+            vk = body_outline(c%bodies(k))
+            if (polygons_overlap(vi, vk, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
+              call input_error(c%file, 'body #'//trim(bi), '', 'the body overlaps &body #'//trim(bk))
+            end if
+         end do
+      end do
+   end subroutine check_bodies
 
    function obj_name(o) result(s)
       type(geom_object), intent(in) :: o
@@ -89,6 +128,8 @@ contains
       call write_fluid(u, c%fluid)
       call write_numerics(u, c%numerics)
       call write_geometry(u, c%objs)
+      call write_bodies(u, c%bodies)
+      call write_contact(u, c%contact)
       close (u)
    end subroutine write_case
 end module input

@@ -12,7 +12,7 @@ module input_check
              check_choice, lower, real_str, int_str
 
    character(len=*), parameter :: known_groups(*) = [character(len=16) :: &
-      'run', 'domain', 'fluid', 'numerics', 'box', 'polygon', 'slope']
+      'run', 'domain', 'fluid', 'numerics', 'box', 'polygon', 'slope', 'body', 'contact']
 
 contains
 

@@ -5,6 +5,7 @@ module io_checkpoint
    use kinds, only: rp
    use particles, only: particles_t, particles_alloc
    use run_state, only: state_t
+   use body_dynamics, only: body_t
    use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_read, h5_attr_write, &
                       h5_attr_read, h5_length, file_rename
    implicit none
@@ -13,10 +14,13 @@ module io_checkpoint
 
 contains
 
-   subroutine checkpoint_write(out_dir, p, st)
+   subroutine checkpoint_write(out_dir, p, st, bodies)
       character(len=*), intent(in) :: out_dir
       type(particles_t), intent(in) :: p
       type(state_t), intent(in) :: st
+      type(body_t), intent(in) :: bodies(:)
+      integer :: b
+      real(rp), allocatable :: bs(:, :)
       integer(hid_t) :: f
       character(len=:), allocatable :: path
       integer :: n
@@ -30,6 +34,8 @@ contains
       call h5_write(f, 'mass', p%mass(1:n))
       call h5_write(f, 'nrm', p%nrm(:, 1:n))
       call h5_write(f, 'xb', p%xb(:, 1:n))
+      call h5_write(f, 'nb', p%nb(:, 1:n))
+      call h5_write(f, 'surf', p%surf(1:n))
       call h5_write(f, 'vm1', p%vm1(:, 1:n))
       call h5_write(f, 'rhom1', p%rhom1(1:n))
       call h5_write(f, 'kind', p%kind(1:n))
@@ -48,16 +54,25 @@ contains
       call h5_attr_write(f, 'n_fluid0', st%n_fluid0)
       call h5_attr_write(f, 'h_swl', st%h_swl)
       call h5_attr_write(f, 'y_surface', st%y_surface)
+      if (size(bodies) > 0) then
+         allocate (bs(6, size(bodies)))
+         do b = 1, size(bodies)
+            bs(:, b) = [bodies(b)%c, bodies(b)%theta, bodies(b)%v, bodies(b)%omega]
+         end do
+         call h5_write(f, 'bodies', bs)
+      end if
       call h5_close(f)
       call file_rename(path//'.tmp', path)
    end subroutine checkpoint_write
 
-   subroutine checkpoint_read(out_dir, p, st)
+   subroutine checkpoint_read(out_dir, p, st, bodies)
       character(len=*), intent(in) :: out_dir
       type(particles_t), intent(inout) :: p
       type(state_t), intent(inout) :: st
+      type(body_t), intent(inout) :: bodies(:)
       integer(hid_t) :: f
-      integer :: n
+      integer :: n, b
+      real(rp), allocatable :: bs(:, :)
       f = h5_open_read(trim(out_dir)//'/checkpoint.h5')
       n = h5_length(f, 'rho')
       call particles_alloc(p, n)
@@ -69,6 +84,8 @@ contains
       call h5_read(f, 'mass', p%mass)
       call h5_read(f, 'nrm', p%nrm)
       call h5_read(f, 'xb', p%xb)
+      call h5_read(f, 'nb', p%nb)
+      call h5_read(f, 'surf', p%surf)
       call h5_read(f, 'vm1', p%vm1)
       call h5_read(f, 'rhom1', p%rhom1)
       call h5_read(f, 'kind', p%kind)
@@ -87,6 +104,16 @@ contains
       call h5_attr_read(f, 'n_fluid0', st%n_fluid0)
       call h5_attr_read(f, 'h_swl', st%h_swl)
       call h5_attr_read(f, 'y_surface', st%y_surface)
+      if (size(bodies) > 0) then
+         allocate (bs(6, size(bodies)))
+         call h5_read(f, 'bodies', bs)
+         do b = 1, size(bodies)
+            bodies(b)%c = bs(1:2, b)
+            bodies(b)%theta = bs(3, b)
+            bodies(b)%v = bs(4:5, b)
+            bodies(b)%omega = bs(6, b)
+         end do
+      end if
       call h5_close(f)
    end subroutine checkpoint_read
 end module io_checkpoint

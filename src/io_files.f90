@@ -138,17 +138,17 @@ contains
       open (newunit=energy_unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
       energy_opened = .true.
-      write (energy_unit, '(a)') 'time,step,kinetic,potential,total_mass,n_fluid,lost'
+      write (energy_unit, '(a)') 'time,step,kinetic,potential,total_mass,n_fluid,lost,body_kinetic,body_potential,max_penetration'
       if (len(keep) > 0) write (energy_unit, '(a)', advance='no') keep
       flush (energy_unit)
    end subroutine energy_open
 
-   subroutine energy_row(t, istep, ekin, epot, mass, n_fluid, lost)
-      real(rp), intent(in) :: t, ekin, epot, mass
+   subroutine energy_row(t, istep, ekin, epot, mass, n_fluid, lost, bkin, bpot, pen)
+      real(rp), intent(in) :: t, ekin, epot, mass, bkin, bpot, pen
       integer, intent(in) :: istep, n_fluid, lost
       if (.not. energy_opened) return
-      write (energy_unit, '(es23.15e3,",",i0,3(",",es23.15e3),",",i0,",",i0)') t, istep, ekin, epot, mass, &
-         n_fluid, lost
+      write (energy_unit, '(es23.15e3,",",i0,3(",",es23.15e3),",",i0,",",i0,3(",",es23.15e3))') t, istep, &
+         ekin, epot, mass, n_fluid, lost, bkin, bpot, pen
       flush (energy_unit)
    end subroutine energy_row
 

@@ -9,6 +9,7 @@ module io_snapshot
                       h5_length, file_rename
    use io_files, only: snap_name, file_exists
    use errors, only: fatal
+   use body_dynamics, only: body_t
    implicit none
    private
    public :: snapshot_write, snapshot_index_rebuild
@@ -21,13 +22,14 @@ module io_snapshot
 contains
 
    !> Snapshot number k at time t.
-   subroutine snapshot_write(out_dir, k, p, prm, t, dt, istep, case_text)
+   subroutine snapshot_write(out_dir, k, p, prm, t, dt, istep, case_text, bodies)
       character(len=*), intent(in) :: out_dir
       integer, intent(in) :: k, istep
       type(particles_t), intent(in) :: p
       type(params_t), intent(in) :: prm
       real(rp), intent(in) :: t, dt
       character(len=*), intent(in) :: case_text
+      type(body_t), intent(in) :: bodies(:)
       integer(hid_t) :: f
       integer, allocatable :: ord(:), slot(:), conn(:)
       integer :: i, n, m
@@ -69,10 +71,44 @@ contains
       call h5_attr_write(f, 'gravity', prm%g)
       call h5_attr_write(f, 'case_name', trim(prm%case_name))
       call h5_attr_write(f, 'case_nml', case_text)
+      if (size(bodies) > 0) call write_outlines(f, bodies)
       call h5_close(f)
       call list_set(k, t, n)
       call xdmf_write(out_dir)
    end subroutine snapshot_write
+
+   !> Body outlines at their current pose: /body_outline (vertices of all
+   !> bodies one after the other), /body_outline_start (0-based offset of each
+   !> body, and the total at the end), /body_pose (x, y, angle per body).
+   subroutine write_outlines(f, bodies)
+      integer(hid_t), intent(in) :: f
+      type(body_t), intent(in) :: bodies(:)
+      integer :: b, k, m, nv
+      integer, allocatable :: start(:)
+      real(rp), allocatable :: xy(:, :), pose(:, :)
+      real(rp) :: cs, sn
+      allocate (start(size(bodies) + 1), pose(3, size(bodies)))
+      start(1) = 0
+      do b = 1, size(bodies)
+         start(b + 1) = start(b) + size(bodies(b)%outline, 2)
+      end do
+      allocate (xy(2, start(size(bodies) + 1)))
+      m = 0
+      do b = 1, size(bodies)
+         cs = cos(bodies(b)%theta - bodies(b)%theta_start)
+         sn = sin(bodies(b)%theta - bodies(b)%theta_start)
+         nv = size(bodies(b)%outline, 2)
+         do k = 1, nv
+            m = m + 1
+            xy(:, m) = bodies(b)%c + [cs*bodies(b)%outline(1, k) - sn*bodies(b)%outline(2, k), &
+                                      sn*bodies(b)%outline(1, k) + cs*bodies(b)%outline(2, k)]
+         end do
+         pose(:, b) = [bodies(b)%c(1), bodies(b)%c(2), bodies(b)%theta]
+      end do
+      call h5_write(f, 'body_outline', xy)
+      call h5_write(f, 'body_outline_start', start)
+      call h5_write(f, 'body_pose', pose)
+   end subroutine write_outlines
 
    subroutine list_set(k, t, n)
       integer, intent(in) :: k, n

@@ -15,12 +15,14 @@ module particles
       real(rp), allocatable :: p(:)          !< pressure [Pa]
       real(rp), allocatable :: mass(:)       !< mass [kg/m]
       real(rp), allocatable :: nrm(:, :)     !< outward unit normal of boundary particles
-      real(rp), allocatable :: xb(:, :)      !< reference position of a moving boundary particle [m]
+      real(rp), allocatable :: xb(:, :)      !< reference position (walls) or body-frame position (bodies) [m]
+      real(rp), allocatable :: nb(:, :)      !< body-frame outward normal of a body particle
       real(rp), allocatable :: vm1(:, :)     !< Verlet: velocity one step back
       real(rp), allocatable :: rhom1(:)      !< Verlet: density one step back
       integer, allocatable :: kind(:)        !< kind_fluid, kind_fixed, kind_moving, kind_floating
       integer, allocatable :: body(:)        !< object (body) number, 0 for fluid
       integer, allocatable :: id(:)          !< global id, from 1
+      integer, allocatable :: surf(:)        !< 0 inside a solid, 1 on a flat face, 2 at a corner or curve
    end type particles_t
 
    real(rp), allocatable :: rtmp(:)          ! scratch for permutations
@@ -32,11 +34,11 @@ contains
    subroutine particles_alloc(p, nmax)
       type(particles_t), intent(inout) :: p
       integer, intent(in) :: nmax
-      if (allocated(p%x)) deallocate (p%x, p%v, p%rho, p%p, p%mass, p%nrm, p%xb, p%vm1, p%rhom1, &
-                                      p%kind, p%body, p%id)
+      if (allocated(p%x)) deallocate (p%x, p%v, p%rho, p%p, p%mass, p%nrm, p%xb, p%nb, p%vm1, p%rhom1, &
+                                      p%kind, p%body, p%id, p%surf)
       allocate (p%x(ndim, nmax), p%v(ndim, nmax), p%rho(nmax), p%p(nmax), p%mass(nmax), &
-                p%nrm(ndim, nmax), p%xb(ndim, nmax), p%vm1(ndim, nmax), p%rhom1(nmax), &
-                p%kind(nmax), p%body(nmax), p%id(nmax))
+                p%nrm(ndim, nmax), p%xb(ndim, nmax), p%nb(ndim, nmax), p%vm1(ndim, nmax), p%rhom1(nmax), &
+                p%kind(nmax), p%body(nmax), p%id(nmax), p%surf(nmax))
       p%n = 0
    end subroutine particles_alloc
 
@@ -56,6 +58,7 @@ contains
          q%p(1:n) = p%p(1:n); q%mass(1:n) = p%mass(1:n); q%nrm(:, 1:n) = p%nrm(:, 1:n)
          q%xb(:, 1:n) = p%xb(:, 1:n); q%vm1(:, 1:n) = p%vm1(:, 1:n); q%rhom1(1:n) = p%rhom1(1:n)
          q%kind(1:n) = p%kind(1:n); q%body(1:n) = p%body(1:n); q%id(1:n) = p%id(1:n)
+         q%nb(:, 1:n) = p%nb(:, 1:n); q%surf(1:n) = p%surf(1:n)
       end if
       q%n = n
       q%n_id = p%n_id
@@ -63,6 +66,7 @@ contains
       call move_alloc(q%p, p%p); call move_alloc(q%mass, p%mass); call move_alloc(q%nrm, p%nrm)
       call move_alloc(q%xb, p%xb); call move_alloc(q%vm1, p%vm1); call move_alloc(q%rhom1, p%rhom1)
       call move_alloc(q%kind, p%kind); call move_alloc(q%body, p%body); call move_alloc(q%id, p%id)
+      call move_alloc(q%nb, p%nb); call move_alloc(q%surf, p%surf)
    end subroutine particles_grow
 
    !> Reorder: new particle k is old particle perm(k), for k = 1..nnew (nnew <= n).
@@ -102,6 +106,7 @@ contains
             call permute_row(p%v, d)
             call permute_row(p%nrm, d)
             call permute_row(p%xb, d)
+            call permute_row(p%nb, d)
             call permute_row(p%vm1, d)
          end do
          call permute_real(p%rho)
@@ -111,6 +116,7 @@ contains
          call permute_int(p%kind)
          call permute_int(p%body)
          call permute_int(p%id)
+         call permute_int(p%surf)
       end if
       p%n = nnew
    contains

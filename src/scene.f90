@@ -2,36 +2,51 @@
 !> layers from the geometry objects; hydrostatic density to start from.
 module scene
    use kinds, only: rp
-   use constants, only: kind_fluid, kind_fixed, kind_moving
+   use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating
    use input, only: case_cfg
+   use input_body, only: body_cfg
+   use body_shapes, only: body_outline, body_mass_properties, body_particles
+   use body_dynamics, only: body_t, motion_floating, motion_fixed, motion_prescribed
    use input_geometry, only: geom_object
    use particles, only: particles_t, particles_grow
    use params, only: params_t, params_init
    use eos, only: eos_density_at_depth
-   use geom, only: point_in_polygon, nearest_edge_normal
+   use geom, only: point_in_polygon, nearest_edge_normal, distance_to_polygon
    use errors, only: fatal
    implicit none
    private
-   public :: scene_build
+   public :: scene_build, scene_bodies
+
+   type :: outline_t
+      real(rp), allocatable :: v(:, :)
+   end type outline_t
 
 contains
 
-   subroutine scene_build(c, p, prm)
+   subroutine scene_build(c, p, prm, bodies)
       type(case_cfg), intent(in) :: c
       type(particles_t), intent(inout) :: p
       type(params_t), intent(out) :: prm
+      type(body_t), allocatable, intent(out) :: bodies(:)
       integer :: k, i, nf
       real(rp) :: dp, ybed, ytop
+      type(outline_t), allocatable :: holes(:)
       dp = c%numerics%dp
       p%n = 0
       p%n_id = 0
+      ! bodies displace the fluid: their outlines are holes in every fluid fill
+      allocate (holes(size(c%bodies)))
+      do k = 1, size(c%bodies)
+         holes(k)%v = body_outline(c%bodies(k))
+      end do
       do k = 1, size(c%objs)
          if (c%objs(k)%group == 'slope') then
             call add_slope(c%objs(k), k, dp, p, c%objs(1:k - 1))
          else
-            call add_lattice(c%objs(k), k, dp, p, c%objs(1:k - 1))
+            call add_lattice(c%objs(k), k, dp, p, c%objs(1:k - 1), holes)
          end if
       end do
+      call scene_bodies(c, bodies, p)
       nf = count(p%kind(1:p%n) == kind_fluid)
       ybed = 0.0_rp
       ytop = 0.0_rp
@@ -45,6 +60,7 @@ contains
          p%v(:, i) = 0.0_rp
          p%mass(i) = prm%rho0*dp*dp
          ! still water: hydrostatic density below the surface, rho0 above
+         ! (body particles take the density of the water they displace)
          p%rho(i) = eos_density_at_depth(prm, max(prm%y_surface - p%x(2, i), 0.0_rp))
          p%vm1(:, i) = p%v(:, i)
          p%rhom1(i) = p%rho(i)
@@ -54,10 +70,82 @@ contains
       if (p%n == 0) call fatal(trim(c%file)//': the case makes no particles (add &box, &polygon or &slope groups)', 2)
    end subroutine scene_build
 
+   !> The bodies of a case at their start state, and (when p is given) their
+   !> particles. A restart calls it without p for the constant properties.
+   subroutine scene_bodies(c, bodies, p)
+      type(case_cfg), intent(in) :: c
+      type(body_t), allocatable, intent(out) :: bodies(:)
+      type(particles_t), intent(inout), optional :: p
+      integer :: k, layers
+      layers = max(1, ceiling(2.0_rp*c%numerics%h_over_dp - 1.0e-9_rp))
+      allocate (bodies(size(c%bodies)))
+      do k = 1, size(c%bodies)
+         call add_body(c%bodies(k), size(c%objs) + k, c%numerics%dp, &
+                       merge(c%bodies(k)%layers, layers, c%bodies(k)%layers > 0), bodies(k), p)
+         bodies(k)%g = c%fluid%gravity
+      end do
+   end subroutine scene_bodies
+
+   !> State of one body and (when p is given) its particles, body number id.
+   subroutine add_body(bc, id, dp, layers, b, p)
+      type(body_cfg), intent(in) :: bc
+      integer, intent(in) :: id, layers
+      real(rp), intent(in) :: dp
+      type(body_t), intent(out) :: b
+      type(particles_t), intent(inout), optional :: p
+      real(rp), allocatable :: xb(:, :), nb(:, :)
+      integer, allocatable :: surf(:)
+      integer :: k, m
+      real(rp), parameter :: deg = 3.14159265358979323846_rp/180.0_rp
+      call body_mass_properties(bc, b%mass, b%c, b%inertia)
+      call body_particles(bc, dp, layers, xb, nb, surf)
+      select case (trim(bc%motion))
+      case ('fixed'); b%motion = motion_fixed
+      case ('prescribed'); b%motion = motion_prescribed
+      case default; b%motion = motion_floating
+      end select
+      b%id = id
+      b%c_start = b%c
+      b%theta = bc%angle*deg
+      b%theta_start = b%theta
+      if (b%motion /= motion_fixed) then
+         b%v = [bc%u, bc%v]
+         b%omega = bc%omega
+      end if
+      b%mu = bc%mu
+      b%restitution = bc%restitution
+      b%young = bc%young
+      b%poisson = bc%poisson
+      b%m_surf = b%mass/max(count(surf > 0), 1)
+      b%rbound = maxval(norm2(xb, dim=1)) + 0.5_rp*dp
+      b%outline = body_outline(bc)
+      do k = 1, size(b%outline, 2)
+         b%outline(:, k) = b%outline(:, k) - b%c
+      end do
+      if (.not. present(p)) return
+      m = size(surf)
+      call particles_grow(p, m)
+      do k = 1, m
+         p%n = p%n + 1
+         p%xb(:, p%n) = xb(:, k)
+         p%nb(:, p%n) = nb(:, k)
+         p%nrm(:, p%n) = nb(:, k)
+         p%x(:, p%n) = b%c + xb(:, k)
+         p%surf(p%n) = surf(k)
+         p%body(p%n) = id
+         select case (b%motion)
+         case (motion_fixed); p%kind(p%n) = kind_fixed
+         case (motion_prescribed); p%kind(p%n) = kind_moving
+         case default; p%kind(p%n) = kind_floating
+         end select
+      end do
+   end subroutine add_body
+
    !> Lattice points (spacing dp, half a spacing in from the bounding box)
-   !> inside the object's polygon.
-   subroutine add_lattice(o, obj, dp, p, earlier)
+   !> inside the object's polygon; fluid points leave room for the bodies.
+   subroutine add_lattice(o, obj, dp, p, earlier, holes)
       type(geom_object), intent(in) :: o, earlier(:)
+      type(outline_t), intent(in) :: holes(:)
       integer, intent(in) :: obj
       real(rp), intent(in) :: dp
       type(particles_t), intent(inout) :: p
@@ -74,6 +162,8 @@ contains
             if (.not. point_in_polygon(pt, o%v)) cycle columns
             if (o%role == 'solid') then
                if (inside_earlier_solid(pt, earlier)) cycle columns
+            else if (in_hole(pt)) then
+               cycle columns
             end if
             p%n = p%n + 1
             k = p%n
@@ -83,13 +173,34 @@ contains
                p%kind(k) = kind_fluid
                p%body(k) = 0
                p%nrm(:, k) = 0.0_rp
+               p%surf(k) = 0
             else
                p%kind(k) = merge(kind_moving, kind_fixed, o%motion /= 'fixed')
                p%body(k) = obj
                p%nrm(:, k) = nearest_edge_normal(pt, o%v)
+               ! the outer layer is the contact surface; near a vertex it is a corner
+               p%surf(k) = 0
+               if (distance_to_polygon(pt, o%v) < dp) then
+                  p%surf(k) = 1
+                  if (minval(hypot(o%v(1, :) - pt(1), o%v(2, :) - pt(2))) < dp) p%surf(k) = 2
+               end if
             end if
+            p%nb(:, k) = p%nrm(:, k)
          end do columns
       end do
+   contains
+      !> Inside a body, or closer to its outline than half a spacing.
+      logical function in_hole(pt)
+         real(rp), intent(in) :: pt(2)
+         integer :: h
+         in_hole = .false.
+         do h = 1, size(holes)
+            if (point_in_polygon(pt, holes(h)%v) .or. distance_to_polygon(pt, holes(h)%v) < 0.499_rp*dp) then
+               in_hole = .true.
+               return
+            end if
+         end do
+      end function in_hole
    end subroutine add_lattice
 
    !> Rows of particles parallel to the slope line, below it.
@@ -119,6 +230,8 @@ contains
             p%kind(k) = kind_fixed
             p%body(k) = obj
             p%nrm(:, k) = nrm
+            p%nb(:, k) = nrm
+            p%surf(k) = merge(1, 0, l == 1)
          end do along
       end do
    end subroutine add_slope

@@ -9,7 +9,10 @@ module solver
    use particles, only: particles_t, particles_count_kind
    use params, only: params_t, params_init, visc_artificial, diff_none, kgc_gradient, kgc_shepard, &
                      integ_verlet
-   use scene, only: scene_build
+   use scene, only: scene_build, scene_bodies
+   use body_dynamics, only: body_t, bodies_place, bodies_energy
+   use contact, only: contact_t, contact_init
+   use io_bodies, only: bodies_csv_open, bodies_csv_row, bodies_csv_close
    use grid, only: grid_t, grid_init, grid_sort
    use eos, only: eos_update
    use fluid_forces, only: forces_work_t, forces_init
@@ -35,6 +38,8 @@ module solver
    type(grid_t) :: g
    type(forces_work_t) :: w
    type(state_t) :: st
+   type(body_t), allocatable :: bodies(:)
+   type(contact_t) :: ct
    character(len=:), allocatable :: out, case_text
    logical, allocatable :: drop(:)
    real(rp), allocatable :: scratch1(:), scratch2(:)
@@ -52,12 +57,14 @@ contains
       call log_open(out//'/run.log', c%run%restart)
       call h5_start()
       if (c%run%restart) then
-         call checkpoint_read(out, p, st)
+         call scene_bodies(c, bodies)
+         call checkpoint_read(out, p, st, bodies)
          call params_init(c, st%y_surface - st%h_swl, st%y_surface, prm)
          call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//out// &
                        '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
       else
-         call scene_build(c, p, prm)
+         call scene_build(c, p, prm, bodies)
+         call bodies_place(bodies, p)
          ! moving walls start on their motion: position and velocity at t = 0
          if (any(p%kind(1:p%n) == kind_moving)) call motion_apply(c%objs, p, 0.0_rp)
          st%n_fluid0 = particles_count_kind(p, kind_fluid)
@@ -66,9 +73,13 @@ contains
       end if
       call write_case(out//'/case.nml', c)
       case_text = file_text(out//'/case.nml')
-      call banner()
       call grid_init(g, c%domain%xmin, c%domain%xmax, c%domain%ymin, c%domain%ymax, prm%h)
       call forces_init(prm)
+      if (size(bodies) > 0) then
+         call contact_init(c%contact, prm, c%fluid%coef, ct)
+         call bodies_csv_open(out, c%run%restart, st%t)
+      end if
+      call banner()
       allocate (drop(size(p%rho)), scratch1(size(p%rho)), scratch2(size(p%rho)))
       call energy_open(out, c%run%restart, st%istep)
       if (c%run%restart) then
@@ -88,12 +99,12 @@ contains
       do while (.not. done)
          call timer_start(t_grid)
          call remove_particles()
-         call grid_sort(g, p, drop)
+         call grid_sort(g, p, drop, cells=size(bodies) > 0)
          if (prm%kgc == kgc_shepard .and. mod(st%istep + 1, prm%shepard_every) == 0) then
             call shepard_filter(prm, g, p, scratch1, scratch2)
          end if
          call timer_stop(t_grid)
-         call step_advance(prm, g, p, w, cfg%objs, any_moving(), st%t, st%istep + 1, st%dt)
+         call step_advance(prm, g, p, w, cfg%objs, any_moving(), bodies, ct, st%t, st%istep + 1, st%dt)
          st%t = st%t + st%dt
          st%istep = st%istep + 1
          st%particle_steps = st%particle_steps + p%n
@@ -108,7 +119,7 @@ contains
          if (cfg%run%checkpoint_every > 0) then
             if (mod(st%istep, cfg%run%checkpoint_every) == 0 .and. .not. done) then
                call timer_start(t_output)
-               call checkpoint_write(out, p, st)
+               call checkpoint_write(out, p, st, bodies)
                call timer_stop(t_output)
             end if
          end if
@@ -120,10 +131,11 @@ contains
       ! the final state always gets a snapshot and a checkpoint
       call timer_start(t_output)
       if (.not. written) call write_outputs(.true., .true.)
-      call checkpoint_write(out, p, st)
+      call checkpoint_write(out, p, st, bodies)
       call timer_stop(t_output)
       call summary()
       call energy_close()
+      call bodies_csv_close()
       call h5_stop()
       call log_close()
    end subroutine solver_run
@@ -169,7 +181,7 @@ contains
                     ' fluid particles (left the domain: '//int_str(nd)//', density outside ['// &
                     real_str(prm%rho_min)//', '//real_str(prm%rho_max)//'] kg/m3: '//int_str(nr)//')')
       if (st%lost_domain + st%lost_density > cfg%run%max_lost_fraction*st%n_fluid0) then
-         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text)
+         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
          call fatal('lost '//int_str(st%lost_domain + st%lost_density)//' of '//int_str(st%n_fluid0)// &
                     ' fluid particles, more than max_lost_fraction = '//real_str(cfg%run%max_lost_fraction)// &
                     ' (&run); last state written to '//snap_name(out, st%isnap))
@@ -191,13 +203,13 @@ contains
          else
             cycle
          end if
-         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text)
+         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
          call fatal('NaN in the '//what//' of particle id '//int_str(p%id(i))//' ('//kind_name(p%kind(i))// &
                     ') at step '//int_str(st%istep)//', t = '//real_str(st%t)//' s; last state written to '// &
                     snap_name(out, st%isnap))
       end do
       if (st%dt < dt_floor) then
-         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text)
+         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
          call fatal('the time step fell to '//real_str(st%dt)//' s (below 1e-4 of the acoustic step) at step '// &
                     int_str(st%istep)//', t = '//real_str(st%t)//' s: the flow has become unstable'// &
                     ' (try a smaller cfl or more viscosity); last state written to '//snap_name(out, st%isnap))
@@ -206,13 +218,13 @@ contains
 
    subroutine write_outputs(snap, energy)
       logical, intent(in) :: snap, energy
-      real(rp) :: ekin, epot, mass
+      real(rp) :: ekin, epot, mass, bkin, bpot
       integer :: i, nf
       real(rp) :: de
       call timer_start(t_output)
       if (snap) then
          call eos_update(prm, p%n, p%rho, p%p, scratch1)
-         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text)
+         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
          st%isnap = st%isnap + 1
          st%t_next_snap = (floor(st%t/cfg%run%dt_out + 1.0e-9_rp) + 1)*cfg%run%dt_out
       end if
@@ -228,7 +240,10 @@ contains
             mass = mass + p%mass(i)
             nf = nf + 1
          end do
-         call energy_row(st%t, st%istep, ekin, epot, mass, nf, st%lost_domain + st%lost_density)
+         call bodies_energy(bodies, bkin, bpot)
+         call energy_row(st%t, st%istep, ekin, epot, mass, nf, st%lost_domain + st%lost_density, bkin, bpot, &
+                         ct%max_penetration)
+         if (size(bodies) > 0) call bodies_csv_row(st%t, bodies)
          st%ienergy = st%ienergy + 1
          de = cfg%run%energy_interval
          if (de <= 0.0_rp) de = cfg%run%dt_out
@@ -261,6 +276,11 @@ contains
       if (prm%kgc == kgc_gradient) fx = fx//', kernel gradient correction'
       if (prm%kgc == kgc_shepard) fx = fx//', Shepard filter every '//int_str(prm%shepard_every)//' steps'
       if (any(p%kind(1:p%n) == kind_moving)) fx = fx//', moving boundaries'
+      if (size(bodies) > 0) then
+         fx = fx//', '//int_str(size(bodies))//' rigid bodies, contact '//trim(cfg%contact%model)// &
+              ' (c0 '//real_str(ct%c)//' m/s, r_f '//real_str(ct%r_f)//')'
+         if (any(cfg%bodies(:)%mu > 0.0_rp)) fx = fx//', Coulomb friction'
+      end if
       if (prm%integrator == integ_verlet) fx = fx//', Verlet Euler step every '//int_str(prm%verlet_every)
       call log_line('  effects on: '//fx)
       call log_line('  output: '//out//', snapshot every '//real_str(cfg%run%dt_out)//' s until t = '// &

@@ -10,7 +10,10 @@ module step
    use fluid_forces, only: forces_work_t, forces_compute
    use input_geometry, only: geom_object
    use bc_motion, only: motion_apply
-   use timers, only: timer_start, timer_stop, t_pairs, t_integrate
+   use timers, only: timer_start, timer_stop, t_pairs, t_integrate, t_bodies
+   use body_dynamics, only: body_t, bodies_place, bodies_fluid_forces, bodies_save, bodies_predict, &
+                            bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, bodies_accel2
+   use contact, only: contact_t, contact_forces
    implicit none
    private
    public :: step_advance, step_dt
@@ -41,35 +44,62 @@ contains
 
    !> One step of the chosen integrator from time t. Returns the dt taken.
    !> istep is the number of the step being taken (1 for the first).
-   subroutine step_advance(prm, g, p, w, objs, has_moving, t, istep, dt)
+   subroutine step_advance(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       type(geom_object), intent(in) :: objs(:)
       logical, intent(in) :: has_moving
+      type(body_t), intent(inout) :: bodies(:)
+      type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
       integer, intent(in) :: istep
       real(rp), intent(out) :: dt
       select case (prm%integrator)
       case (integ_verlet)
-         call verlet(prm, g, p, w, objs, has_moving, t, istep, dt)
+         call verlet(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt)
       case (integ_predictor_corrector)
-         call two_stage(prm, g, p, w, objs, has_moving, t, dt, .false.)
+         call two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, dt, .false.)
       case default
-         call two_stage(prm, g, p, w, objs, has_moving, t, dt, .true.)
+         call two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, dt, .true.)
       end select
    end subroutine step_advance
 
-   subroutine evaluate(prm, g, p, w)
+   !> Forces of one stage: the pair loop, then (only when the case has
+   !> bodies) the fluid force on each body and the contacts.
+   subroutine evaluate(prm, g, p, w, bodies, ct)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
+      type(body_t), intent(inout) :: bodies(:)
+      type(contact_t), intent(inout) :: ct
       call timer_start(t_pairs)
       call forces_compute(prm, g, p, w)
       call timer_stop(t_pairs)
+      if (size(bodies) == 0) return
+      call timer_start(t_bodies)
+      call bodies_fluid_forces(bodies, p, w%acc)
+      call contact_forces(ct, prm, g, p, bodies, w%drho)
+      call timer_stop(t_bodies)
    end subroutine evaluate
+
+   !> The fluid's time step, limited further by the bodies' accelerations
+   !> and the stiffest contact.
+   real(rp) function stage_dt(prm, p, w, bodies, ct) result(dt)
+      type(params_t), intent(in) :: prm
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(in) :: w
+      type(body_t), intent(in) :: bodies(:)
+      type(contact_t), intent(in) :: ct
+      real(rp) :: a2
+      dt = step_dt(prm, p, w)
+      if (size(bodies) == 0) return
+      a2 = bodies_accel2(bodies)
+      if (a2 > 0.0_rp) dt = min(dt, prm%cfl*sqrt(prm%h/sqrt(a2)))
+      dt = min(dt, ct%dt_limit)
+   end function stage_dt
 
    subroutine save_state(p)
       type(particles_t), intent(in) :: p
@@ -86,19 +116,21 @@ contains
 
    !> Symplectic (position Verlet, as in DualSPHysics) or the
    !> predictor-corrector of SPHysics; both evaluate forces twice a step.
-   subroutine two_stage(prm, g, p, w, objs, has_moving, t, dt, symplectic)
+   subroutine two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, dt, symplectic)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       type(geom_object), intent(in) :: objs(:)
       logical, intent(in) :: has_moving, symplectic
+      type(body_t), intent(inout) :: bodies(:)
+      type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
       real(rp), intent(out) :: dt
       integer :: i
       real(rp) :: hdt, eps
-      call evaluate(prm, g, p, w)
-      dt = step_dt(prm, p, w)
+      call evaluate(prm, g, p, w, bodies, ct)
+      dt = stage_dt(prm, p, w, bodies, ct)
       hdt = 0.5_rp*dt
       call timer_start(t_integrate)
       call save_state(p)
@@ -113,8 +145,13 @@ contains
          end if
       end do
       if (has_moving) call motion_apply(objs, p, t + hdt)
+      if (size(bodies) > 0) then
+         call bodies_save(bodies)
+         call bodies_predict(bodies, hdt)
+         call bodies_place(bodies, p)
+      end if
       call timer_stop(t_integrate)
-      call evaluate(prm, g, p, w)
+      call evaluate(prm, g, p, w, bodies, ct)
       call timer_start(t_integrate)
       if (symplectic) then
          do i = 1, p%n
@@ -140,26 +177,36 @@ contains
          end do
       end if
       if (has_moving) call motion_apply(objs, p, t + dt)
+      if (size(bodies) > 0) then
+         if (symplectic) then
+            call bodies_correct_symplectic(bodies, dt)
+         else
+            call bodies_correct_pc(bodies, dt)
+         end if
+         call bodies_place(bodies, p)
+      end if
       call timer_stop(t_integrate)
    end subroutine two_stage
 
    !> Verlet: a leapfrog over two steps, with an Euler step every
    !> verlet_every steps to keep the two interleaved solutions together.
-   subroutine verlet(prm, g, p, w, objs, has_moving, t, istep, dt)
+   subroutine verlet(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       type(geom_object), intent(in) :: objs(:)
       logical, intent(in) :: has_moving
+      type(body_t), intent(inout) :: bodies(:)
+      type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
       integer, intent(in) :: istep
       real(rp), intent(out) :: dt
       integer :: i
       real(rp) :: vnew(2), rnew, dt2, hdt2
       logical :: euler
-      call evaluate(prm, g, p, w)
-      dt = step_dt(prm, p, w)
+      call evaluate(prm, g, p, w, bodies, ct)
+      dt = stage_dt(prm, p, w, bodies, ct)
       call timer_start(t_integrate)
       euler = mod(istep, prm%verlet_every) == 0
       dt2 = 2.0_rp*dt
@@ -186,6 +233,10 @@ contains
          end if
       end do
       if (has_moving) call motion_apply(objs, p, t + dt)
+      if (size(bodies) > 0) then
+         call bodies_verlet(bodies, dt)
+         call bodies_place(bodies, p)
+      end if
       call timer_stop(t_integrate)
    end subroutine verlet
 end module step

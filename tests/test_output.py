@@ -121,7 +121,7 @@ def test_snapshot_attributes(run) -> None:
 def test_energy_csv(run) -> None:
     _, out = run
     lines = (out / "energy.csv").read_text().splitlines()
-    assert lines[0] == "time,step,kinetic,potential,total_mass,n_fluid,lost"
+    assert lines[0] == "time,step,kinetic,potential,total_mass,n_fluid,lost,body_kinetic,body_potential,max_penetration"
     data = read_csv(out / "energy.csv")
     paths = snapshots(out)
     # energy_interval = 0: a row at every output time, as many as snapshots

@@ -1,0 +1,214 @@
+!> Rigid bodies: state, Newton-Euler time stepping inside every integrator,
+!> and the particle positions, velocities and normals taken from the pose
+!> every stage, so a body stays exactly rigid.
+module body_dynamics
+   use kinds, only: rp
+   use constants, only: kind_floating, kind_fixed, kind_moving
+   use particles, only: particles_t
+   implicit none
+   private
+   public :: body_t, motion_floating, motion_fixed, motion_prescribed, bodies_place, bodies_fluid_forces, &
+             bodies_save, bodies_predict, bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, &
+             bodies_accel2, body_of, bodies_energy
+
+   integer, parameter :: motion_floating = 1, motion_fixed = 2, motion_prescribed = 3
+
+   type :: body_t
+      integer :: motion = motion_floating
+      integer :: id = 0                     !< body number carried by its particles
+      real(rp) :: mass = 0.0_rp             !< [kg/m]
+      real(rp) :: inertia = 0.0_rp          !< about the centre [kg m]
+      real(rp) :: c(2) = 0.0_rp             !< centre [m]
+      real(rp) :: theta = 0.0_rp            !< angle [rad]
+      real(rp) :: v(2) = 0.0_rp             !< velocity of the centre [m/s]
+      real(rp) :: omega = 0.0_rp            !< angular velocity [rad/s]
+      real(rp) :: c_start(2) = 0.0_rp       !< centre at t = 0
+      real(rp) :: theta_start = 0.0_rp      !< angle at t = 0 (particle frame)
+      real(rp) :: m_surf = 0.0_rp           !< body mass per surface particle [kg/m]
+      real(rp) :: mu = 0.0_rp, restitution = 0.5_rp, young = 2.0e10_rp, poisson = 0.2_rp
+      real(rp) :: rbound = 0.0_rp           !< largest distance of a particle from the centre [m]
+      real(rp) :: g = 9.81_rp               !< gravity [m/s2]
+      ! forces and torques of the last evaluation, by source
+      real(rp) :: f_fluid(2) = 0.0_rp, t_fluid = 0.0_rp
+      real(rp) :: f_normal(2) = 0.0_rp, t_normal = 0.0_rp
+      real(rp) :: f_fric(2) = 0.0_rp, t_fric = 0.0_rp
+      ! velocity-proportional contact terms (damping, sticking friction):
+      ! their sum sets the stable time step, an explicit step must stay
+      ! below twice mass / coefficient
+      real(rp) :: c_lin = 0.0_rp             !< [kg/(m s)]
+      real(rp) :: c_rot = 0.0_rp             !< [kg m/s]
+      ! state at the start of the step
+      real(rp) :: c0(2) = 0.0_rp, theta0 = 0.0_rp, v0(2) = 0.0_rp, omega0 = 0.0_rp
+      real(rp), allocatable :: outline(:, :)  !< outline in the particle frame (centre at 0)
+   end type body_t
+
+contains
+
+   !> Body index of particle i, or 0 when it belongs to no body.
+   pure integer function body_of(bodies, id) result(b)
+      type(body_t), intent(in) :: bodies(:)
+      integer, intent(in) :: id
+      b = 0
+      if (size(bodies) == 0) return
+      b = id - bodies(1)%id + 1
+      if (b < 1 .or. b > size(bodies)) b = 0
+   end function body_of
+
+   !> Particles of every body from its pose: x = c + R(theta - theta_start) xb.
+   subroutine bodies_place(bodies, p)
+      type(body_t), intent(in) :: bodies(:)
+      type(particles_t), intent(inout) :: p
+      integer :: i, b
+      real(rp) :: cs(size(bodies)), sn(size(bodies)), r(2)
+      do b = 1, size(bodies)
+         cs(b) = cos(bodies(b)%theta - bodies(b)%theta_start)
+         sn(b) = sin(bodies(b)%theta - bodies(b)%theta_start)
+      end do
+      do i = 1, p%n
+         b = body_of(bodies, p%body(i))
+         if (b == 0) cycle
+         r = [cs(b)*p%xb(1, i) - sn(b)*p%xb(2, i), sn(b)*p%xb(1, i) + cs(b)*p%xb(2, i)]
+         p%x(:, i) = bodies(b)%c + r
+         p%v(:, i) = bodies(b)%v + bodies(b)%omega*[-r(2), r(1)]
+         p%nrm(:, i) = [cs(b)*p%nb(1, i) - sn(b)*p%nb(2, i), sn(b)*p%nb(1, i) + cs(b)*p%nb(2, i)]
+      end do
+   end subroutine bodies_place
+
+   !> Force and torque of the fluid on each floating body: the pair-loop
+   !> acceleration of its particles times their mass.
+   subroutine bodies_fluid_forces(bodies, p, acc)
+      type(body_t), intent(inout) :: bodies(:)
+      type(particles_t), intent(in) :: p
+      real(rp), intent(in) :: acc(:, :)
+      integer :: i, b
+      real(rp) :: f(2), r(2)
+      do b = 1, size(bodies)
+         bodies(b)%f_fluid = 0.0_rp
+         bodies(b)%t_fluid = 0.0_rp
+      end do
+      do i = 1, p%n
+         if (p%kind(i) /= kind_floating) cycle
+         b = body_of(bodies, p%body(i))
+         f = p%mass(i)*acc(:, i)
+         r = p%x(:, i) - bodies(b)%c
+         bodies(b)%f_fluid = bodies(b)%f_fluid + f
+         bodies(b)%t_fluid = bodies(b)%t_fluid + r(1)*f(2) - r(2)*f(1)
+      end do
+   end subroutine bodies_fluid_forces
+
+   !> Linear and angular acceleration of a body from the forces of the last evaluation.
+   pure subroutine accel(b, a, alpha)
+      type(body_t), intent(in) :: b
+      real(rp), intent(out) :: a(2), alpha
+      a = 0.0_rp
+      alpha = 0.0_rp
+      if (b%motion /= motion_floating) return
+      a = (b%f_fluid + b%f_normal + b%f_fric)/b%mass - [0.0_rp, b%g]
+      alpha = (b%t_fluid + b%t_normal + b%t_fric)/b%inertia
+   end subroutine accel
+
+   !> Largest squared particle acceleration of the bodies (time-step limit).
+   real(rp) function bodies_accel2(bodies) result(a2)
+      type(body_t), intent(in) :: bodies(:)
+      integer :: b
+      real(rp) :: a(2), alpha
+      a2 = 0.0_rp
+      do b = 1, size(bodies)
+         call accel(bodies(b), a, alpha)
+         a2 = max(a2, (norm2(a) + abs(alpha)*bodies(b)%rbound)**2)
+      end do
+   end function bodies_accel2
+
+   subroutine bodies_save(bodies)
+      type(body_t), intent(inout) :: bodies(:)
+      integer :: b
+      do b = 1, size(bodies)
+         bodies(b)%c0 = bodies(b)%c
+         bodies(b)%theta0 = bodies(b)%theta
+         bodies(b)%v0 = bodies(b)%v
+         bodies(b)%omega0 = bodies(b)%omega
+      end do
+   end subroutine bodies_save
+
+   !> Half a step with the rates at the start (predictor of the two-stage schemes).
+   subroutine bodies_predict(bodies, hdt)
+      type(body_t), intent(inout) :: bodies(:)
+      real(rp), intent(in) :: hdt
+      integer :: b
+      real(rp) :: a(2), alpha
+      do b = 1, size(bodies)
+         if (bodies(b)%motion == motion_fixed) cycle
+         call accel(bodies(b), a, alpha)
+         bodies(b)%c = bodies(b)%c + hdt*bodies(b)%v
+         bodies(b)%theta = bodies(b)%theta + hdt*bodies(b)%omega
+         bodies(b)%v = bodies(b)%v + hdt*a
+         bodies(b)%omega = bodies(b)%omega + hdt*alpha
+      end do
+   end subroutine bodies_predict
+
+   !> Symplectic corrector: v1 = v0 + dt a(1/2), x1 = x(1/2) + dt/2 v1.
+   subroutine bodies_correct_symplectic(bodies, dt)
+      type(body_t), intent(inout) :: bodies(:)
+      real(rp), intent(in) :: dt
+      integer :: b
+      real(rp) :: a(2), alpha
+      do b = 1, size(bodies)
+         if (bodies(b)%motion == motion_fixed) cycle
+         call accel(bodies(b), a, alpha)
+         bodies(b)%v = bodies(b)%v0 + dt*a
+         bodies(b)%omega = bodies(b)%omega0 + dt*alpha
+         bodies(b)%c = bodies(b)%c + 0.5_rp*dt*bodies(b)%v
+         bodies(b)%theta = bodies(b)%theta + 0.5_rp*dt*bodies(b)%omega
+      end do
+   end subroutine bodies_correct_symplectic
+
+   !> Predictor-corrector: corrected half step from the start with the
+   !> mid-step rates, then extrapolated to the full step.
+   subroutine bodies_correct_pc(bodies, dt)
+      type(body_t), intent(inout) :: bodies(:)
+      real(rp), intent(in) :: dt
+      integer :: b
+      real(rp) :: a(2), alpha, vh(2), wh
+      do b = 1, size(bodies)
+         if (bodies(b)%motion == motion_fixed) cycle
+         call accel(bodies(b), a, alpha)
+         vh = bodies(b)%v0 + 0.5_rp*dt*a
+         wh = bodies(b)%omega0 + 0.5_rp*dt*alpha
+         bodies(b)%c = bodies(b)%c0 + dt*vh
+         bodies(b)%theta = bodies(b)%theta0 + dt*wh
+         bodies(b)%v = 2.0_rp*vh - bodies(b)%v0
+         bodies(b)%omega = 2.0_rp*wh - bodies(b)%omega0
+      end do
+   end subroutine bodies_correct_pc
+
+   !> Verlet step of the bodies: x1 = x0 + dt v0 + dt^2/2 a0, v1 = v0 + dt a0
+   !> (exact under a constant force, whatever the step sizes).
+   subroutine bodies_verlet(bodies, dt)
+      type(body_t), intent(inout) :: bodies(:)
+      real(rp), intent(in) :: dt
+      integer :: b
+      real(rp) :: a(2), alpha
+      do b = 1, size(bodies)
+         if (bodies(b)%motion == motion_fixed) cycle
+         call accel(bodies(b), a, alpha)
+         bodies(b)%c = bodies(b)%c + dt*bodies(b)%v + 0.5_rp*dt*dt*a
+         bodies(b)%theta = bodies(b)%theta + dt*bodies(b)%omega + 0.5_rp*dt*dt*alpha
+         bodies(b)%v = bodies(b)%v + dt*a
+         bodies(b)%omega = bodies(b)%omega + dt*alpha
+      end do
+   end subroutine bodies_verlet
+
+   !> Kinetic and potential energy of the floating bodies [J/m].
+   subroutine bodies_energy(bodies, ekin, epot)
+      type(body_t), intent(in) :: bodies(:)
+      real(rp), intent(out) :: ekin, epot
+      integer :: b
+      ekin = 0.0_rp
+      epot = 0.0_rp
+      do b = 1, size(bodies)
+         if (bodies(b)%motion /= motion_floating) cycle
+         ekin = ekin + 0.5_rp*bodies(b)%mass*sum(bodies(b)%v**2) + 0.5_rp*bodies(b)%inertia*bodies(b)%omega**2
+         epot = epot + bodies(b)%mass*bodies(b)%g*bodies(b)%c(2)
+      end do
+   end subroutine bodies_energy
+end module body_dynamics

@@ -1,0 +1,365 @@
+!> Contact between bodies, and between a body and a wall: the seed paper's
+!> force f = n R(psi) P(xi) eps(z, u_L) (Eq. 2-6) with the repulsive,
+!> non-cohesive and non-cohesive-with-spring coefficients, a Hertz DEM
+!> contact, and the dynamic-boundary baseline; Coulomb friction on top.
+!> Every pair force is applied equal and opposite. doc/contact.md says how
+!> each symbol is computed.
+module contact
+   use kinds, only: rp
+   use constants, only: pi, kind_fluid, kind_floating
+   use params, only: params_t
+   use grid, only: grid_t
+   use particles, only: particles_t
+   use body_dynamics, only: body_t, motion_floating, body_of
+   use input_body, only: contact_cfg
+   use kernel, only: kernel_gradw
+   implicit none
+   private
+   public :: contact_t, contact_init, contact_forces, model_dynamic, model_repulsive, model_noncohesive, &
+             model_spring, model_hertz
+
+   integer, parameter :: model_dynamic = 1, model_repulsive = 2, model_noncohesive = 3, model_spring = 4, &
+                         model_hertz = 5
+
+   type :: contact_t
+      integer :: model = model_spring
+      real(rp) :: k10b2 = 1.0_rp      !< (10/B)^2
+      real(rp) :: c = 0.0_rp          !< reference speed c0 of Eq. 4-6 [m/s]
+      real(rp) :: r_f = 10.0_rp
+      real(rp) :: q0 = 0.001_rp
+      real(rp) :: v_stick = 1.0e-3_rp
+      real(rp) :: max_penetration = 0.0_rp  !< largest overlap of two surfaces in the last evaluation [m]
+      real(rp) :: dt_limit = huge(1.0_rp)   !< stable step for the stiffest contact of the last evaluation [s]
+      logical, allocatable :: cand(:)
+   end type contact_t
+
+contains
+
+   subroutine contact_init(cfg, prm, coef, ct)
+      type(contact_cfg), intent(in) :: cfg
+      type(params_t), intent(in) :: prm
+      real(rp), intent(in) :: coef
+      type(contact_t), intent(out) :: ct
+      real(rp) :: b
+      select case (trim(cfg%model))
+      case ('dynamic'); ct%model = model_dynamic
+      case ('repulsive'); ct%model = model_repulsive
+      case ('noncohesive'); ct%model = model_noncohesive
+      case ('hertz'); ct%model = model_hertz
+      case default; ct%model = model_spring
+      end select
+      b = cfg%b
+      if (b <= 0.0_rp) b = coef
+      ct%k10b2 = (10.0_rp/b)**2
+      ! default c0: the static term (10/B)^2 0.005 c0^2 / h equals 2 g, so that a
+      ! body resting on a face sits at touching distance (doc/contact.md)
+      ct%c = cfg%c0
+      if (ct%c <= 0.0_rp) ct%c = sqrt(2.0_rp*max(prm%g, 1.0e-3_rp)*prm%h/(0.005_rp*ct%k10b2))
+      ct%r_f = cfg%r_f
+      ct%q0 = cfg%q0
+      ct%v_stick = cfg%stick_velocity
+   end subroutine contact_init
+
+   !> Contact forces and torques on every body (f_normal, t_normal, f_fric,
+   !> t_fric); for the dynamic model also the density rates of the pair.
+   ! allow(too-complex): counted with its contained procedures, each of them short; they share the sweep's data
+   subroutine contact_forces(ct, prm, g, p, bodies, drho)
+      type(contact_t), intent(inout) :: ct
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      type(body_t), intent(inout) :: bodies(:)
+      real(rp), intent(inout) :: drho(:)
+      integer :: i, j, c, r, jlo(2), jhi(2), bi, bj, k
+      real(rp) :: d(2), r2
+      do k = 1, size(bodies)
+         bodies(k)%f_normal = 0.0_rp; bodies(k)%t_normal = 0.0_rp
+         bodies(k)%f_fric = 0.0_rp; bodies(k)%t_fric = 0.0_rp
+         bodies(k)%c_lin = 0.0_rp; bodies(k)%c_rot = 0.0_rp
+      end do
+      ct%max_penetration = 0.0_rp
+      ct%dt_limit = huge(1.0_rp)
+      call find_candidates(ct, prm, p, bodies)
+      do i = 1, p%n
+         if (.not. ct%cand(i)) cycle
+         c = g%icell(i)
+         jlo = [i + 1, g%cstart(c + g%nx - 1)]
+         jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
+         bi = body_of(bodies, p%body(i))
+         do r = 1, 2
+            partners: do j = jlo(r), jhi(r)
+               if (.not. ct%cand(j)) cycle partners
+               if (p%body(j) == p%body(i)) cycle partners
+               if (p%kind(i) /= kind_floating .and. p%kind(j) /= kind_floating) cycle partners
+               d = p%x(:, i) - p%x(:, j)
+               r2 = d(1)**2 + d(2)**2
+               if (r2 >= prm%support2) cycle partners
+               bj = body_of(bodies, p%body(j))
+               call pair(i, j, bi, bj, d, r2)
+            end do partners
+         end do
+      end do
+      ! explicit stability of the velocity-proportional terms: dt < 2 m / c
+      do k = 1, size(bodies)
+         if (bodies(k)%motion /= motion_floating) cycle
+         if (bodies(k)%c_lin > 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.5_rp*bodies(k)%mass/bodies(k)%c_lin)
+         if (bodies(k)%c_rot > 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.5_rp*bodies(k)%inertia/bodies(k)%c_rot)
+      end do
+   contains
+      !> A velocity-proportional coefficient c acting between particles i and j.
+      subroutine viscous(i, j, bi, bj, c)
+         integer, intent(in) :: i, j, bi, bj
+         real(rp), intent(in) :: c
+         if (bi > 0) then
+            bodies(bi)%c_lin = bodies(bi)%c_lin + c
+            bodies(bi)%c_rot = bodies(bi)%c_rot + c*sum((p%x(:, i) - bodies(bi)%c)**2)
+         end if
+         if (bj > 0) then
+            bodies(bj)%c_lin = bodies(bj)%c_lin + c
+            bodies(bj)%c_rot = bodies(bj)%c_rot + c*sum((p%x(:, j) - bodies(bj)%c)**2)
+         end if
+      end subroutine viscous
+
+      subroutine pair(i, j, bi, bj, d, r2)
+         integer, intent(in) :: i, j, bi, bj
+         real(rp), intent(in) :: d(2), r2
+         select case (ct%model)
+         case (model_dynamic)
+            call pair_dynamic(i, j, bi, bj, d)
+         case (model_hertz)
+            call pair_hertz(i, j, bi, bj, d, r2)
+         case default
+            call pair_eq(i, j, bi, bj, d)
+         end select
+      end subroutine pair
+
+      !> Dynamic boundary between bodies: continuity and pressure as for the fluid.
+      subroutine pair_dynamic(i, j, bi, bj, d)
+         integer, intent(in) :: i, j, bi, bj
+         real(rp), intent(in) :: d(2)
+         real(rp) :: gw(2), dr, f(2), fn, vij(2)
+         vij = p%v(:, i) - p%v(:, j)
+         gw = kernel_gradw(prm%kernel, d, prm%h)
+         dr = dot_product(vij, gw)
+         drho(i) = drho(i) + p%mass(j)*dr
+         drho(j) = drho(j) + p%mass(i)*dr
+         f = -p%mass(i)*p%mass(j)*(p%p(i) + p%p(j))/(p%rho(i)*p%rho(j))*gw
+         fn = norm2(f)
+         call apply(i, j, bi, bj, f, .true.)
+         if (fn > 0.0_rp) call friction(i, j, bi, bj, f/fn, fn, vij)
+      end subroutine pair_dynamic
+
+      !> Hertz contact of the particles as spheres of diameter dp (Canelas et al. 2016 form).
+      subroutine pair_hertz(i, j, bi, bj, d, r2)
+         integer, intent(in) :: i, j, bi, bj
+         real(rp), intent(in) :: d(2), r2
+         real(rp) :: overlap, n(2), ul, kn, gn, mstar, lne, fn, kstiff, vij(2)
+         overlap = prm%dp - sqrt(r2)
+         if (overlap <= 0.0_rp) return
+         vij = p%v(:, i) - p%v(:, j)
+         n = d/sqrt(r2)
+         ul = dot_product(vij, n)
+         kn = 4.0_rp/(3.0_rp*tau_pair(bi, bj))*sqrt(0.25_rp*prm%dp)
+         mstar = pair_mass(bi, bj)
+         lne = log(restitution(bi, bj))
+         gn = -2.0_rp*lne*sqrt(mstar*kn)/sqrt(pi**2 + lne**2)
+         fn = max(kn*overlap**1.5_rp - gn*overlap**0.25_rp*ul, 0.0_rp)
+         call viscous(i, j, bi, bj, gn*overlap**0.25_rp)
+         ct%max_penetration = max(ct%max_penetration, overlap)
+         kstiff = 1.5_rp*kn*sqrt(overlap)
+         ct%dt_limit = min(ct%dt_limit, 0.2_rp*sqrt(mstar/max(kstiff, tiny(1.0_rp))))
+         call apply(i, j, bi, bj, fn*n, .true.)
+         call friction(i, j, bi, bj, n, fn, vij)
+      end subroutine pair_hertz
+
+      !> The seed paper's f = n R(psi) P(xi) eps(z, u_L), Eq. 2-6.
+      subroutine pair_eq(i, j, bi, bj, d)
+         integer, intent(in) :: i, j, bi, bj
+         real(rp), intent(in) :: d(2)
+         real(rp) :: n(2), psi_c, xi, pw, psi, q, rq, a, ul, fn, m_ij, vij(2), kstiff
+         ! the normal of the flat side of the pair (a corner or a curve takes
+         ! the face's normal); two flats or two curves: their mean
+         n = contact_normal(i, j, d)
+         psi_c = dot_product(d, n)                 ! normal distance of the particle centres
+         if (psi_c <= -prm%dp) return              ! passed through: never pull back across
+         xi = norm2(d - psi_c*n)                   ! tangential distance
+         if (xi >= prm%dp) return
+         pw = 0.5_rp*(1.0_rp + cos(pi*xi/prm%dp))  ! P(xi): a partition of unity along a face
+         ct%max_penetration = max(ct%max_penetration, prm%dp - psi_c)
+         psi = psi_c - 0.5_rp*prm%dp               ! distance of particle i from the other surface
+         q = max(psi, 0.0_rp)/(2.0_rp*prm%h)
+         if (q >= 1.0_rp) return
+         rq = (1.0_rp - q)/sqrt(q + ct%q0)         ! R(psi)/A, bounded at contact
+         vij = p%v(:, i) - p%v(:, j)
+         ul = dot_product(vij, n)                  ! > 0 when receding
+         a = coefficient_a(ct, ul, prm%h)
+         m_ij = pair_mass(bi, bj)
+         fn = m_ij*a*rq*pw                         ! eps = 1 between solids
+         if (.not. abs(fn) > 0.0_rp) return
+         if (ul <= 0.0_rp) call viscous(i, j, bi, bj, m_ij*ct%k10b2*ct%r_f*ct%c*rq*pw/prm%h)
+         ! stiffness of the static term for the time step: d(R)/d(psi)
+         kstiff = m_ij*ct%k10b2*0.005_rp*ct%c**2/prm%h*pw/(2.0_rp*prm%h)* &
+                  (1.0_rp/sqrt(q + ct%q0) + 0.5_rp*(1.0_rp - q)/(q + ct%q0)**1.5_rp)
+         ct%dt_limit = min(ct%dt_limit, 0.3_rp*sqrt(m_ij/max(kstiff, tiny(1.0_rp))))
+         call apply(i, j, bi, bj, fn*n, .true.)
+         if (fn > 0.0_rp) call friction(i, j, bi, bj, n, fn, vij)
+      end subroutine pair_eq
+
+      !> Regularised Coulomb friction: opposes the tangential slip, mu |f_n|
+      !> when sliding, proportional to the slip below v_stick.
+      subroutine friction(i, j, bi, bj, n, fn, vij)
+         integer, intent(in) :: i, j, bi, bj
+         real(rp), intent(in) :: n(2), fn, vij(2)
+         real(rp) :: vt(2), s, mu
+         mu = friction_coef(bi, bj)
+         if (mu <= 0.0_rp .or. fn <= 0.0_rp) return
+         vt = vij - dot_product(vij, n)*n
+         s = norm2(vt)
+         if (s < ct%v_stick) call viscous(i, j, bi, bj, mu*fn/ct%v_stick)
+         if (s <= 0.0_rp) return
+         call apply(i, j, bi, bj, -mu*fn*min(s/ct%v_stick, 1.0_rp)*vt/s, .false.)
+      end subroutine friction
+
+      !> Force f on particle i, -f on particle j, summed into their bodies.
+      subroutine apply(i, j, bi, bj, f, normal)
+         integer, intent(in) :: i, j, bi, bj
+         real(rp), intent(in) :: f(2)
+         logical, intent(in) :: normal
+         real(rp) :: r(2)
+         if (bi > 0) then
+            r = p%x(:, i) - bodies(bi)%c
+            if (normal) then
+               bodies(bi)%f_normal = bodies(bi)%f_normal + f
+               bodies(bi)%t_normal = bodies(bi)%t_normal + r(1)*f(2) - r(2)*f(1)
+            else
+               bodies(bi)%f_fric = bodies(bi)%f_fric + f
+               bodies(bi)%t_fric = bodies(bi)%t_fric + r(1)*f(2) - r(2)*f(1)
+            end if
+         end if
+         if (bj > 0) then
+            r = p%x(:, j) - bodies(bj)%c
+            if (normal) then
+               bodies(bj)%f_normal = bodies(bj)%f_normal - f
+               bodies(bj)%t_normal = bodies(bj)%t_normal - (r(1)*f(2) - r(2)*f(1))
+            else
+               bodies(bj)%f_fric = bodies(bj)%f_fric - f
+               bodies(bj)%t_fric = bodies(bj)%t_fric - (r(1)*f(2) - r(2)*f(1))
+            end if
+         end if
+      end subroutine apply
+
+      function contact_normal(i, j, d) result(n)
+         integer, intent(in) :: i, j
+         real(rp), intent(in) :: d(2)
+         real(rp) :: n(2), s
+         if (p%surf(j) == 1 .and. p%surf(i) /= 1) then
+            n = p%nrm(:, j)
+         else if (p%surf(i) == 1 .and. p%surf(j) /= 1) then
+            n = -p%nrm(:, i)
+         else
+            n = p%nrm(:, j) - p%nrm(:, i)
+            s = norm2(n)
+            if (s < 1.0e-6_rp) then
+               n = d/norm2(d)
+            else
+               n = n/s
+            end if
+         end if
+      end function contact_normal
+
+      !> Mass that scales the pair force: the lighter body's mass per surface
+      !> particle (a wall has no mass of its own).
+      real(rp) function pair_mass(bi, bj) result(m)
+         integer, intent(in) :: bi, bj
+         m = huge(1.0_rp)
+         if (bi > 0) m = min(m, bodies(bi)%m_surf)
+         if (bj > 0) m = min(m, bodies(bj)%m_surf)
+      end function pair_mass
+
+      real(rp) function friction_coef(bi, bj) result(mu)
+         integer, intent(in) :: bi, bj
+         if (bi > 0 .and. bj > 0) then
+            mu = 0.5_rp*(bodies(bi)%mu + bodies(bj)%mu)
+         else
+            mu = bodies(max(bi, bj))%mu
+         end if
+      end function friction_coef
+
+      real(rp) function restitution(bi, bj) result(e)
+         integer, intent(in) :: bi, bj
+         if (bi > 0 .and. bj > 0) then
+            e = 0.5_rp*(bodies(bi)%restitution + bodies(bj)%restitution)
+         else
+            e = bodies(max(bi, bj))%restitution
+         end if
+      end function restitution
+
+      !> tau_i + tau_j, tau = (1 - nu^2)/E; a wall takes the body's material.
+      real(rp) function tau_pair(bi, bj) result(t)
+         integer, intent(in) :: bi, bj
+         integer :: k1, k2
+         k1 = max(bi, bj)
+         k2 = k1
+         if (bi > 0 .and. bj > 0) k2 = min(bi, bj)
+         t = (1.0_rp - bodies(k1)%poisson**2)/bodies(k1)%young + (1.0_rp - bodies(k2)%poisson**2)/bodies(k2)%young
+      end function tau_pair
+   end subroutine contact_forces
+
+   !> The coefficient A of Eq. 4 (repulsive), 5 (non-cohesive) or 6
+   !> (non-cohesive with a static spring), per unit mass [m/s2].
+   pure real(rp) function coefficient_a(ct, ul, h) result(a)
+      type(contact_t), intent(in) :: ct
+      real(rp), intent(in) :: ul, h
+      select case (ct%model)
+      case (model_repulsive)                       ! Eq. 4: attractive once u_L > 0.005 c
+         if (ul > 0.0_rp) then
+            a = ct%k10b2*(0.01_rp*0.5_rp*ct%c**2 - ct%c*ul)/h
+         else
+            a = -ct%k10b2*ct%r_f*ct%c*ul/h
+         end if
+      case (model_noncohesive)                     ! Eq. 5
+         a = 0.0_rp
+         if (ul <= 0.0_rp) a = -ct%k10b2*ct%r_f*ct%c*ul/h
+      case default                                 ! Eq. 6
+         if (ul <= 0.0_rp) then
+            a = ct%k10b2*(0.005_rp*ct%c**2 - ct%r_f*ct%c*ul)/h
+         else
+            ! the spring switches off over receding speeds 0 .. v_stick
+            ! instead of at once: continuous in u_L, never attractive, and
+            ! a resting body does not chatter between on and off
+            a = ct%k10b2*0.005_rp*ct%c**2/h*max(1.0_rp - ul/ct%v_stick, 0.0_rp)
+         end if
+      end select
+   end function coefficient_a
+
+   !> Surface particles that can touch: those of floating bodies, and those of
+   !> walls and other bodies within reach of a floating body.
+   subroutine find_candidates(ct, prm, p, bodies)
+      type(contact_t), intent(inout) :: ct
+      type(params_t), intent(in) :: prm
+      type(particles_t), intent(in) :: p
+      type(body_t), intent(in) :: bodies(:)
+      integer :: i, b
+      real(rp) :: reach
+      if (allocated(ct%cand)) then
+         if (size(ct%cand) < p%n) deallocate (ct%cand)
+      end if
+      if (.not. allocated(ct%cand)) allocate (ct%cand(size(p%rho)))
+      slots: do i = 1, p%n
+         ct%cand(i) = .false.
+         if (p%surf(i) == 0 .or. p%kind(i) == kind_fluid) cycle slots
+         if (p%kind(i) == kind_floating) then
+            ct%cand(i) = .true.
+            cycle slots
+         end if
+         near: do b = 1, size(bodies)
+            if (bodies(b)%motion /= motion_floating) cycle near
+            reach = bodies(b)%rbound + 2.0_rp*prm%h + prm%dp
+            if (sum((p%x(:, i) - bodies(b)%c)**2) < reach**2) then
+               ct%cand(i) = .true.
+               exit near
+            end if
+         end do near
+      end do slots
+   end subroutine find_candidates
+end module contact

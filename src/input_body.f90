@@ -1,0 +1,176 @@
+!> &body (repeatable): rigid bodies; &contact: the contact model between
+!> bodies and between a body and a wall.
+module input_body
+   use kinds, only: rp
+   use constants, only: name_len, msg_len, pi
+   use input_check, only: open_case, read_failed, check_real, check_int, check_choice, group_count, &
+                          int_str, real_str
+   use errors, only: input_error
+   use geom, only: polygon_area, polygon_self_intersects
+   implicit none
+   private
+   public :: body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact, body_max_vert
+
+   integer, parameter :: body_max_vert = 100
+
+   type :: body_cfg
+      character(len=name_len) :: shape = 'box'        !< 'circle' | 'box' | 'wedge' | 'polygon'
+      real(rp) :: x = 0.0_rp, y = 0.0_rp               !< centre (circle, box) [m]
+      real(rp) :: radius = 0.0_rp                      !< circle radius [m]
+      real(rp) :: width = 0.0_rp, height = 0.0_rp      !< box sides [m]
+      real(rp) :: angle = 0.0_rp                       !< initial rotation [deg], counter-clockwise
+      integer :: nvert = 0                             !< polygon / wedge vertices
+      real(rp) :: vx(body_max_vert) = 0.0_rp, vy(body_max_vert) = 0.0_rp
+      real(rp) :: density = 0.0_rp                     !< [kg/m3]; or
+      real(rp) :: mass = 0.0_rp                        !< [kg/m] (2D: per metre of width)
+      character(len=name_len) :: motion = 'floating'   !< 'floating' | 'fixed' | 'prescribed'
+      real(rp) :: u = 0.0_rp, v = 0.0_rp               !< initial (or prescribed) velocity [m/s]
+      real(rp) :: omega = 0.0_rp                       !< initial (or prescribed) angular velocity [rad/s]
+      real(rp) :: mu = 0.0_rp                          !< Coulomb friction coefficient [-]
+      real(rp) :: restitution = 0.5_rp                 !< restitution coefficient (hertz) [-]
+      real(rp) :: young = 2.0e10_rp                    !< Young's modulus (hertz) [Pa]
+      real(rp) :: poisson = 0.2_rp                     !< Poisson ratio (hertz) [-]
+      integer :: layers = 0                            !< particle layers inward (0: enough for 2h)
+   end type body_cfg
+
+   type :: contact_cfg
+      character(len=name_len) :: model = 'noncohesive_spring'  !< 'dynamic' | 'repulsive' | 'noncohesive' |
+                                                               !< 'noncohesive_spring' | 'hertz'
+      real(rp) :: r_f = 0.5_rp               !< damping coefficient r_f of Eq. 4-6 [-] (doc/contact.md)
+      real(rp) :: b = 0.0_rp                 !< sound coefficient B of Eq. 4-6 (0: &fluid coef) [-]
+      real(rp) :: c0 = 0.0_rp                !< reference speed of Eq. 4-6 (0: from the static load, doc/contact.md) [m/s]
+      real(rp) :: q0 = 0.001_rp              !< regularisation of 1/sqrt(q): bounds R at q = 0 [-]
+      real(rp) :: stick_velocity = 1.0e-3_rp  !< slip speed below which friction is proportional [m/s]
+   end type contact_cfg
+
+   type(body_cfg) :: dflt
+   character(len=name_len) :: shape, motion, model
+   real(rp) :: x, y, radius, width, height, angle, density, mass, u, v, omega, mu, restitution, young, poisson
+   real(rp) :: vx(body_max_vert), vy(body_max_vert)
+   integer :: nvert, layers
+   namelist /body/ shape, x, y, radius, width, height, angle, nvert, vx, vy, density, mass, motion, u, v, &
+      omega, mu, restitution, young, poisson, layers
+   real(rp) :: r_f, b, c0, q0, stick_velocity
+   namelist /contact/ model, r_f, b, c0, q0, stick_velocity
+
+contains
+
+   subroutine to_vars(c)
+      type(body_cfg), intent(in) :: c
+      shape = c%shape; x = c%x; y = c%y; radius = c%radius; width = c%width; height = c%height
+      angle = c%angle; nvert = c%nvert; vx = c%vx; vy = c%vy; density = c%density; mass = c%mass
+      motion = c%motion; u = c%u; v = c%v; omega = c%omega; mu = c%mu; restitution = c%restitution
+      young = c%young; poisson = c%poisson; layers = c%layers
+   end subroutine to_vars
+
+   subroutine from_vars(c)
+      type(body_cfg), intent(out) :: c
+      c%shape = shape; c%x = x; c%y = y; c%radius = radius; c%width = width; c%height = height
+      c%angle = angle; c%nvert = nvert; c%vx = vx; c%vy = vy; c%density = density; c%mass = mass
+      c%motion = motion; c%u = u; c%v = v; c%omega = omega; c%mu = mu; c%restitution = restitution
+      c%young = young; c%poisson = poisson; c%layers = layers
+   end subroutine from_vars
+
+   subroutine read_bodies(file, dp, bodies)
+      character(len=*), intent(in) :: file
+      real(rp), intent(in) :: dp
+      type(body_cfg), allocatable, intent(out) :: bodies(:)
+      integer :: nb, k, u_, ios
+      character(len=msg_len) :: msg
+      character(len=:), allocatable :: g
+      nb = group_count(file, 'body')
+      allocate (bodies(nb))
+      if (nb == 0) return
+      u_ = open_case(file)
+      do k = 1, nb
+         call to_vars(dflt)
+         read (u_, nml=body, iostat=ios, iomsg=msg)
+         if (read_failed(file, 'body', ios, msg)) return
+         call from_vars(bodies(k))
+         g = 'body #'//int_str(k)
+         associate (c => bodies(k))
+            call check_choice(file, g, 'shape', c%shape, [character(len=name_len) :: 'circle', 'box', 'wedge', 'polygon'])
+            call check_choice(file, g, 'motion', c%motion, [character(len=name_len) :: 'floating', 'fixed', 'prescribed'])
+            select case (trim(c%shape))
+            case ('circle')
+               call check_real(file, g, 'radius', c%radius, 2.0_rp*dp, 1.0e4_rp)
+            case ('box')
+               call check_real(file, g, 'width', c%width, 2.0_rp*dp, 1.0e4_rp)
+               call check_real(file, g, 'height', c%height, 2.0_rp*dp, 1.0e4_rp)
+            case default
+               if (c%shape == 'wedge') then
+                  call check_int(file, g, 'nvert', c%nvert, 3, 3)
+               else
+                  call check_int(file, g, 'nvert', c%nvert, 3, body_max_vert)
+               end if
+               block
+                  real(rp) :: vv(2, c%nvert)
+                  vv(1, :) = c%vx(1:c%nvert)
+                  vv(2, :) = c%vy(1:c%nvert)
+                  if (abs(polygon_area(vv)) < 4.0_rp*dp*dp) call input_error(file, g, 'vx, vy', &
+                     'the outline has (almost) no area: at least 4 dp^2 is needed')
+                  if (polygon_self_intersects(vv)) call input_error(file, g, 'vx, vy', 'the outline crosses itself')
+               end block
+            end select
+            call check_real(file, g, 'angle', c%angle, -360.0_rp, 360.0_rp)
+            if (c%motion == 'floating' .or. c%mass > 0.0_rp .or. c%density > 0.0_rp) then
+               if (c%mass > 0.0_rp) then
+                  call check_real(file, g, 'mass', c%mass, 0.0_rp, 1.0e9_rp, lo_open=.true.)
+               else
+                  call check_real(file, g, 'density', c%density, 1.0_rp, 1.0e5_rp)
+               end if
+            end if
+            call check_real(file, g, 'mu', c%mu, 0.0_rp, 10.0_rp)
+            call check_real(file, g, 'restitution', c%restitution, 0.01_rp, 1.0_rp)
+            call check_real(file, g, 'young', c%young, 1.0e3_rp, 1.0e13_rp)
+            call check_real(file, g, 'poisson', c%poisson, 0.0_rp, 0.5_rp, hi_open=.true.)
+            call check_int(file, g, 'layers', c%layers, 0, 100)
+            if (abs(c%u) > 1.0e3_rp .or. abs(c%v) > 1.0e3_rp) call input_error(file, g, 'u, v', &
+               'speeds above 1000 m/s ('//real_str(max(abs(c%u), abs(c%v)))//') are not meant')
+            if (abs(c%omega) > 1.0e3_rp*pi) call input_error(file, g, 'omega', 'above 1000 pi rad/s')
+         end associate
+      end do
+      close (u_)
+   end subroutine read_bodies
+
+   subroutine write_bodies(u_, bodies)
+      integer, intent(in) :: u_
+      type(body_cfg), intent(in) :: bodies(:)
+      integer :: k
+      do k = 1, size(bodies)
+         call to_vars(bodies(k))
+         write (u_, nml=body)
+      end do
+   end subroutine write_bodies
+
+   subroutine read_contact(file, c)
+      character(len=*), intent(in) :: file
+      type(contact_cfg), intent(out) :: c
+      integer :: u_, ios
+      character(len=msg_len) :: msg
+      type(contact_cfg) :: d
+      if (group_count(file, 'contact') > 1) call input_error(file, 'contact', '', 'group appears more than once')
+      model = d%model; r_f = d%r_f; b = d%b; c0 = d%c0; q0 = d%q0; stick_velocity = d%stick_velocity
+      if (group_count(file, 'contact') == 1) then
+         u_ = open_case(file)
+         read (u_, nml=contact, iostat=ios, iomsg=msg)
+         close (u_)
+         if (read_failed(file, 'contact', ios, msg)) return
+      end if
+      c%model = model; c%r_f = r_f; c%b = b; c%c0 = c0; c%q0 = q0; c%stick_velocity = stick_velocity
+      call check_choice(file, 'contact', 'model', c%model, [character(len=name_len) :: 'dynamic', 'repulsive', &
+                                                           'noncohesive', 'noncohesive_spring', 'hertz'])
+      call check_real(file, 'contact', 'r_f', c%r_f, 0.0_rp, 1.0e3_rp)
+      call check_real(file, 'contact', 'b', c%b, 0.0_rp, 100.0_rp)
+      call check_real(file, 'contact', 'c0', c%c0, 0.0_rp, 1.0e4_rp)
+      call check_real(file, 'contact', 'q0', c%q0, 1.0e-6_rp, 0.1_rp)
+      call check_real(file, 'contact', 'stick_velocity', c%stick_velocity, 1.0e-7_rp, 1.0_rp)
+   end subroutine read_contact
+
+   subroutine write_contact(u_, c)
+      integer, intent(in) :: u_
+      type(contact_cfg), intent(in) :: c
+      model = c%model; r_f = c%r_f; b = c%b; c0 = c%c0; q0 = c%q0; stick_velocity = c%stick_velocity
+      write (u_, nml=contact)
+   end subroutine write_contact
+end module input_body

@@ -1,0 +1,76 @@
+!> OUT/bodies.csv: one row per body at every energy output time, with the
+!> force and torque split by source and the displacement from the start.
+module io_bodies
+   use kinds, only: rp
+   use constants, only: msg_len
+   use body_dynamics, only: body_t
+   use errors, only: fatal
+   implicit none
+   private
+   public :: bodies_csv_open, bodies_csv_row, bodies_csv_close
+
+   integer :: unit_ = 0
+   logical :: opened = .false.
+   character(len=*), parameter :: header = 'time,body,x,y,angle,u,v,omega,fx_fluid,fy_fluid,torque_fluid,'// &
+                                           'fx_contact,fy_contact,torque_contact,fx_friction,fy_friction,'// &
+                                           'torque_friction,fx_gravity,fy_gravity,displacement,rotation'
+
+contains
+
+   !> A new file, or on restart the old one cut back to rows up to time t_keep.
+   subroutine bodies_csv_open(out_dir, restart, t_keep)
+      character(len=*), intent(in) :: out_dir
+      logical, intent(in) :: restart
+      real(rp), intent(in) :: t_keep
+      character(len=:), allocatable :: path, keep
+      character(len=4096) :: line
+      character(len=msg_len) :: msg
+      integer :: u, ios, k
+      real(rp) :: t
+      logical :: have
+      path = trim(out_dir)//'/bodies.csv'
+      keep = ''
+      inquire (file=path, exist=have)
+      if (restart .and. have) then
+         open (newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+         if (ios == 0) then
+            read (u, '(a)', iostat=ios, iomsg=msg) line
+            rows: do while (ios == 0)
+               read (u, '(a)', iostat=ios, iomsg=msg) line
+               if (ios /= 0) exit rows
+               k = index(line, ',')
+               read (line(1:k - 1), *, iostat=ios, iomsg=msg) t
+               if (ios == 0 .and. t <= t_keep*(1.0_rp + 1.0e-12_rp)) keep = keep//trim(line)//new_line('a')
+               ios = 0
+            end do rows
+            close (u)
+         end if
+      end if
+      open (newunit=unit_, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+      if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
+      opened = .true.
+      write (unit_, '(a)') header
+      if (len(keep) > 0) write (unit_, '(a)', advance='no') keep
+      flush (unit_)
+   end subroutine bodies_csv_open
+
+   subroutine bodies_csv_row(t, bodies)
+      real(rp), intent(in) :: t
+      type(body_t), intent(in) :: bodies(:)
+      integer :: b
+      if (.not. opened) return
+      do b = 1, size(bodies)
+         associate (x => bodies(b))
+            write (unit_, '(es23.15e3,",",i0,19(",",es23.15e3))') t, b, x%c, x%theta, x%v, x%omega, &
+               x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric, 0.0_rp, -x%mass*x%g, &
+               norm2(x%c - x%c_start), x%theta - x%theta_start
+         end associate
+      end do
+      flush (unit_)
+   end subroutine bodies_csv_row
+
+   subroutine bodies_csv_close()
+      if (opened) close (unit_)
+      opened = .false.
+   end subroutine bodies_csv_close
+end module io_bodies
