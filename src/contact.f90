@@ -31,6 +31,14 @@ module contact
       real(rp) :: max_penetration = 0.0_rp  !< largest overlap of two surfaces in the last evaluation [m]
       real(rp) :: dt_limit = huge(1.0_rp)   !< stable step for the stiffest contact of the last evaluation [s]
       logical, allocatable :: cand(:)
+      ! pairs of the last sweep (Eq. 2-6 models), gathered before the forces
+      ! are applied: the slip of the friction is taken at the contact centre
+      ! of each pair of touching bodies, so that a rolling body does not slip
+      integer :: np = 0, nk = 0
+      integer, allocatable :: pij(:, :), pb(:, :), pkey(:)
+      real(rp), allocatable :: pn(:, :), pw(:), pq(:)
+      integer, allocatable :: kid(:, :)
+      real(rp), allocatable :: kx(:, :), kw(:)
    end type contact_t
 
 contains
@@ -79,6 +87,8 @@ contains
       end do
       ct%max_penetration = 0.0_rp
       ct%dt_limit = huge(1.0_rp)
+      ct%np = 0
+      ct%nk = 0
       call find_candidates(ct, prm, p, bodies)
       do i = 1, p%n
          if (.not. ct%cand(i)) cycle
@@ -99,6 +109,7 @@ contains
             end do partners
          end do
       end do
+      if (ct%np > 0) call apply_eq_pairs()
       ! explicit stability of the velocity-proportional terms: dt < 2 m / c
       do k = 1, size(bodies)
          if (bodies(k)%motion /= motion_floating) cycle
@@ -172,11 +183,13 @@ contains
          call friction(i, j, bi, bj, n, fn, vij)
       end subroutine pair_hertz
 
-      !> The seed paper's f = n R(psi) P(xi) eps(z, u_L), Eq. 2-6.
+      !> The seed paper's f = n R(psi) P(xi) eps(z, u_L), Eq. 2-6, first pass:
+      !> the geometry of the pair, and the contact centre of its two bodies.
       subroutine pair_eq(i, j, bi, bj, d)
          integer, intent(in) :: i, j, bi, bj
          real(rp), intent(in) :: d(2)
-         real(rp) :: n(2), psi_c, xi, pw, psi, q, rq, a, ul, fn, m_ij, vij(2), kstiff
+         real(rp) :: n(2), psi_c, xi, pw, psi, q, rq
+         integer :: k
          ! the normal of the flat side of the pair (a corner or a curve takes
          ! the face's normal); two flats or two curves: their mean
          n = contact_normal(i, j, d)
@@ -185,25 +198,108 @@ contains
          xi = norm2(d - psi_c*n)                   ! tangential distance
          if (xi >= prm%dp) return
          pw = 0.5_rp*(1.0_rp + cos(pi*xi/prm%dp))  ! P(xi): a partition of unity along a face
-         ct%max_penetration = max(ct%max_penetration, prm%dp - psi_c)
          psi = psi_c - 0.5_rp*prm%dp               ! distance of particle i from the other surface
          q = max(psi, 0.0_rp)/(2.0_rp*prm%h)
          if (q >= 1.0_rp) return
          rq = (1.0_rp - q)/sqrt(q + ct%q0)         ! R(psi)/A, bounded at contact
-         vij = p%v(:, i) - p%v(:, j)
-         ul = dot_product(vij, n)                  ! > 0 when receding
-         a = coefficient_a(ct, ul, prm%h)
-         m_ij = pair_mass(bi, bj)
-         fn = m_ij*a*rq*pw                         ! eps = 1 between solids
-         if (.not. abs(fn) > 0.0_rp) return
-         if (ul <= 0.0_rp) call viscous(i, j, bi, bj, m_ij*ct%k10b2*ct%r_f*ct%c*rq*pw/prm%h)
-         ! stiffness of the static term for the time step: d(R)/d(psi)
-         kstiff = m_ij*ct%k10b2*0.005_rp*ct%c**2/prm%h*pw/(2.0_rp*prm%h)* &
-                  (1.0_rp/sqrt(q + ct%q0) + 0.5_rp*(1.0_rp - q)/(q + ct%q0)**1.5_rp)
-         ct%dt_limit = min(ct%dt_limit, 0.3_rp*sqrt(m_ij/max(kstiff, tiny(1.0_rp))))
-         call apply(i, j, bi, bj, fn*n, .true.)
-         if (fn > 0.0_rp) call friction(i, j, bi, bj, n, fn, vij)
+         ct%max_penetration = max(ct%max_penetration, prm%dp - psi_c)
+         k = key_of(p%body(i), p%body(j))
+         ct%kx(:, k) = ct%kx(:, k) + rq*pw*0.5_rp*(p%x(:, i) + p%x(:, j))
+         ct%kw(k) = ct%kw(k) + rq*pw
+         call store_pair(i, j, bi, bj, n, rq*pw, q, k)
       end subroutine pair_eq
+
+      !> Second pass: u_L, the coefficient A, the normal force and friction.
+      !> u_L and the slip are the two bodies' relative motion at the centre of
+      !> their contact, so that a rolling disc or a pivoting corner meets no
+      !> resistance from the damping; between two flat faces u_L is that of
+      !> the particles themselves, so that rocking is damped.
+      subroutine apply_eq_pairs()
+         integer :: m, i, j, bi, bj
+         real(rp) :: xc(2), vrel(2), n(2), ul, a, fn, m_ij, rp_w, q, kstiff
+         do m = 1, ct%np
+            i = ct%pij(1, m); j = ct%pij(2, m); bi = ct%pb(1, m); bj = ct%pb(2, m)
+            n = ct%pn(:, m); rp_w = ct%pw(m); q = ct%pq(m)
+            xc = ct%kx(:, ct%pkey(m))/ct%kw(ct%pkey(m))
+            vrel = velocity_at(bi, xc, i) - velocity_at(bj, xc, j)
+            if (p%surf(i) == 1 .and. p%surf(j) == 1) then
+               ul = dot_product(p%v(:, i) - p%v(:, j), n)
+            else
+               ul = dot_product(vrel, n)
+            end if
+            a = coefficient_a(ct, ul, prm%h)
+            m_ij = pair_mass(bi, bj)
+            fn = m_ij*a*rp_w                          ! eps = 1 between solids
+            if (.not. abs(fn) > 0.0_rp) cycle
+            if (ct%model /= model_noncohesive .or. ul <= 0.0_rp) then
+              call viscous(i, j, bi, bj, m_ij*ct%k10b2*ct%r_f*ct%c*rp_w/prm%h)
+            end if
+            ! stiffness of the static term for the time step: d(R)/d(psi)
+            kstiff = m_ij*ct%k10b2*0.005_rp*ct%c**2/prm%h*rp_w/(2.0_rp*prm%h)* &
+                     (1.0_rp/(q + ct%q0) + 0.5_rp/(q + ct%q0)**2)
+            ct%dt_limit = min(ct%dt_limit, 0.3_rp*sqrt(m_ij/max(kstiff, tiny(1.0_rp))))
+            call apply(i, j, bi, bj, fn*n, .true.)
+            if (fn > 0.0_rp) call friction(i, j, bi, bj, n, fn, vrel)
+         end do
+      end subroutine apply_eq_pairs
+
+      !> Velocity at point x of the body b that particle own belongs to; for a
+      !> wall particle (b = 0) the particle's own velocity.
+      function velocity_at(b, x, own) result(v)
+         integer, intent(in) :: b, own
+         real(rp), intent(in) :: x(2)
+         real(rp) :: v(2)
+         if (b > 0) then
+            v = bodies(b)%v + bodies(b)%omega*[-(x(2) - bodies(b)%c(2)), x(1) - bodies(b)%c(1)]
+         else
+            v = p%v(:, own)
+         end if
+      end function velocity_at
+
+      !> Index of the pair of bodies (ids a, b) in the contact table.
+      integer function key_of(a, b) result(k)
+         integer, intent(in) :: a, b
+         integer :: lo, hi
+         lo = min(a, b); hi = max(a, b)
+         do k = 1, ct%nk
+            if (ct%kid(1, k) == lo .and. ct%kid(2, k) == hi) return
+         end do
+         if (.not. allocated(ct%kid)) allocate (ct%kid(2, 16), ct%kx(2, 16), ct%kw(16))
+         if (ct%nk == size(ct%kw)) then
+            ct%kid = reshape([ct%kid, spread(0, 1, 2*ct%nk)], [2, 2*ct%nk])
+            ct%kx = reshape([ct%kx, spread(0.0_rp, 1, 2*ct%nk)], [2, 2*ct%nk])
+            ct%kw = [ct%kw, spread(0.0_rp, 1, ct%nk)]
+         end if
+         ct%nk = ct%nk + 1
+         k = ct%nk
+         ct%kid(:, k) = [lo, hi]
+         ct%kx(:, k) = 0.0_rp
+         ct%kw(k) = 0.0_rp
+      end function key_of
+
+      subroutine store_pair(i, j, bi, bj, n, w, q, k)
+         integer, intent(in) :: i, j, bi, bj, k
+         real(rp), intent(in) :: n(2), w, q
+         integer :: cap
+         if (.not. allocated(ct%pkey)) allocate (ct%pij(2, 256), ct%pb(2, 256), ct%pkey(256), ct%pn(2, 256), &
+                                                 ct%pw(256), ct%pq(256))
+         cap = size(ct%pkey)
+         if (ct%np == cap) then
+            ct%pij = reshape([ct%pij, spread(0, 1, 2*cap)], [2, 2*cap])
+            ct%pb = reshape([ct%pb, spread(0, 1, 2*cap)], [2, 2*cap])
+            ct%pkey = [ct%pkey, spread(0, 1, cap)]
+            ct%pn = reshape([ct%pn, spread(0.0_rp, 1, 2*cap)], [2, 2*cap])
+            ct%pw = [ct%pw, spread(0.0_rp, 1, cap)]
+            ct%pq = [ct%pq, spread(0.0_rp, 1, cap)]
+         end if
+         ct%np = ct%np + 1
+         ct%pij(:, ct%np) = [i, j]
+         ct%pb(:, ct%np) = [bi, bj]
+         ct%pkey(ct%np) = k
+         ct%pn(:, ct%np) = n
+         ct%pw(ct%np) = w
+         ct%pq(ct%np) = q
+      end subroutine store_pair
 
       !> Regularised Coulomb friction: opposes the tangential slip, mu |f_n|
       !> when sliding, proportional to the slip below v_stick.
@@ -256,6 +352,14 @@ contains
             n = p%nrm(:, j)
          else if (p%surf(i) == 1 .and. p%surf(j) /= 1) then
             n = -p%nrm(:, i)
+         else if (p%surf(i) == 1 .and. dot_product(p%nrm(:, i), p%nrm(:, j)) > -0.866_rp) then
+            ! two flat faces that do not face each other (the side of a block
+            ! next to the floor): the face the other particle stands in front of
+            if (dot_product(d, p%nrm(:, j)) >= -dot_product(d, p%nrm(:, i))) then
+               n = p%nrm(:, j)
+            else
+               n = -p%nrm(:, i)
+            end if
          else
             n = p%nrm(:, j) - p%nrm(:, i)
             s = norm2(n)
@@ -267,21 +371,32 @@ contains
          end if
       end function contact_normal
 
-      !> Mass that scales the pair force: the lighter body's mass per surface
-      !> particle (a wall has no mass of its own).
+      !> A floating body (b = 0: a wall particle).
+      logical function floating(b)
+         integer, intent(in) :: b
+         floating = .false.
+         if (b > 0) floating = bodies(b)%motion == motion_floating
+      end function floating
+
+      !> Mass that scales the pair force: the lighter floating body's mass per
+      !> surface particle (walls, fixed and prescribed bodies count as infinite).
       real(rp) function pair_mass(bi, bj) result(m)
          integer, intent(in) :: bi, bj
          m = huge(1.0_rp)
-         if (bi > 0) m = min(m, bodies(bi)%m_surf)
-         if (bj > 0) m = min(m, bodies(bj)%m_surf)
+         if (floating(bi)) m = min(m, bodies(bi)%m_surf)
+         if (floating(bj)) m = min(m, bodies(bj)%m_surf)
       end function pair_mass
 
       real(rp) function friction_coef(bi, bj) result(mu)
          integer, intent(in) :: bi, bj
-         if (bi > 0 .and. bj > 0) then
+         ! between two floating bodies the mean; a wall, a fixed or a
+         ! prescribed body takes the floating body's coefficient
+         if (floating(bi) .and. floating(bj)) then
             mu = 0.5_rp*(bodies(bi)%mu + bodies(bj)%mu)
+         else if (floating(bi)) then
+            mu = bodies(bi)%mu
          else
-            mu = bodies(max(bi, bj))%mu
+            mu = bodies(bj)%mu
          end if
       end function friction_coef
 
@@ -321,14 +436,12 @@ contains
          a = 0.0_rp
          if (ul <= 0.0_rp) a = -ct%k10b2*ct%r_f*ct%c*ul/h
       case default                                 ! Eq. 6
-         if (ul <= 0.0_rp) then
-            a = ct%k10b2*(0.005_rp*ct%c**2 - ct%r_f*ct%c*ul)/h
-         else
-            ! the spring switches off over receding speeds 0 .. v_stick
-            ! instead of at once: continuous in u_L, never attractive, and
-            ! a resting body does not chatter between on and off
-            a = ct%k10b2*0.005_rp*ct%c**2/h*max(1.0_rp - ul/ct%v_stick, 0.0_rp)
-         end if
+         ! as Eq. 6 when approaching; when receding, the same expression held
+         ! at zero or above: the spring fades out over 0 < u_L < 0.005 c / r_f
+         ! instead of dropping at once. Continuous in u_L, never attractive;
+         ! over a rolling contact the damping of the approaching and the
+         ! receding particles cancels, so rolling meets no resistance.
+         a = ct%k10b2*max(0.005_rp*ct%c**2 - ct%r_f*ct%c*ul, 0.0_rp)/h
       end select
    end function coefficient_a
 

@@ -66,6 +66,7 @@ contains
          end do
          call delete_file(trim(d)//'/checkpoint.h5')
          call delete_file(trim(d)//'/energy.csv')
+         call delete_file(trim(d)//'/bodies.csv')
          call delete_file(trim(d)//'/particles.xmf')
          call delete_file(trim(d)//'/case.nml')
          call delete_file(trim(d)//'/run.log')
