@@ -157,3 +157,26 @@ def test_bodies_rest_at_touching_distance(tmp_path: Path, mbsph: Path) -> None:
         creep = np.max(np.abs(b["y"][late] - b["y"][late][-1]))
         # 0.1 dp: no creep once settled (last half second)
         assert creep <= 0.1 * dp, f"creep {creep / dp:.3f} dp"
+
+
+def test_tc4_stack_in_still_water(tmp_path: Path, mbsph: Path) -> None:
+    """Three boxes resting on each other and on the floor under still water."""
+    d = run_paper("tc4_stack", "noncohesive_spring", tmp_path, mbsph)
+    dp, h_box = 0.01, 0.06
+    ys = []
+    for b in (1, 2, 3):
+        s = body(d, b)
+        late = s["time"] >= s["time"][-1] - 0.2 - 1e-9
+        vertical = s["fy_fluid"] + s["fy_contact"] + s["fy_friction"]
+        ratio = float(np.mean(vertical[late] / -s["fy_gravity"][late]))
+        # 0.0015: the paper's figure 13 bar, vertical force over weight averaged over the last 0.2 s
+        assert abs(ratio - 1.0) <= 0.0015, f"body {b}: vertical force / weight = {ratio:.5f}"
+        settled = s["time"] >= 0.3
+        drift = float(np.max(s["y"][settled]) - np.min(s["y"][settled]))
+        # 0.1 dp: no drift once the start has settled (after 0.3 s)
+        assert drift <= 0.1 * dp, f"body {b} drifted {drift / dp:.3f} dp"
+        ys.append(s["y"][-1])
+    gaps = [ys[0] - 0.5 * h_box, ys[1] - ys[0] - h_box, ys[2] - ys[1] - h_box]
+    for k, gap in enumerate(gaps):
+        # 0.5 dp: bodies at rest sit within half a spacing of touching
+        assert abs(gap) <= 0.5 * dp, f"contact {k + 1} (from the floor up): gap {gap / dp:+.3f} dp"

@@ -90,9 +90,21 @@ def main() -> None:
 &body shape = 'circle', x = {TC3_X_LEFT}, y = {TC3_R}, radius = {TC3_R}, density = 2000.0, mu = {TC3_MU} /
 &body shape = 'circle', x = {TC3_X_RIGHT:.6f}, y = {TC3_R}, radius = {TC3_R}, density = 2000.0, mu = {TC3_MU}, u = {TC3_U} /
 """
+        files["tc4_stack"] = header(
+            "tc4_stack", "TC4: three boxes 0.1 x 0.06 m (density 2000) stacked on the floor of a tank, under "
+            "0.3 m of still water; the vertical force on each (fluid + contact + friction) must balance its "
+            "weight", model, 0.7, 0.35, extra_run="\n  energy_interval = 0.01", dp=0.01) + """&domain xmin = -0.05, xmax = 0.65, ymin = -0.05, ymax = 0.5 /
+&box role = 'fluid', xmin = 0.0, xmax = 0.6, ymin = 0.0, ymax = 0.3 /
+&box role = 'solid', xmin = -0.03, xmax = 0.63, ymin = -0.03, ymax = 0.0 /
+&box role = 'solid', xmin = -0.03, xmax = 0.0, ymin = 0.0, ymax = 0.4 /
+&box role = 'solid', xmin = 0.6, xmax = 0.63, ymin = 0.0, ymax = 0.4 /
+&body shape = 'box', x = 0.3, y = 0.03, width = 0.1, height = 0.06, density = 2000.0, mu = 0.5 /
+&body shape = 'box', x = 0.3, y = 0.09, width = 0.1, height = 0.06, density = 2000.0, mu = 0.5 /
+&body shape = 'box', x = 0.3, y = 0.15, width = 0.1, height = 0.06, density = 2000.0, mu = 0.5 /
+"""
         for name, text in files.items():
             (OUT / f"{name}_{model}.nml").write_text(text)
-    print(f"wrote {len(MODELS) * 5} case files to {OUT}")
+    print(f"wrote {len(MODELS) * 6} case files to {OUT}")
 
 
 if __name__ == "__main__":
