@@ -109,7 +109,13 @@ contains
             end do partners
          end do
       end do
-      if (ct%np > 0) call apply_eq_pairs()
+      if (ct%np > 0) then
+         if (ct%model == model_hertz) then
+            call apply_hertz_pairs()
+         else
+            call apply_eq_pairs()
+         end if
+      end if
       ! explicit stability of the velocity-proportional terms: dt < 2 m / c
       do k = 1, size(bodies)
          if (bodies(k)%motion /= motion_floating) cycle
@@ -160,28 +166,58 @@ contains
          if (fn > 0.0_rp) call friction(i, j, bi, bj, f/fn, fn, vij)
       end subroutine pair_dynamic
 
-      !> Hertz contact of the particles as spheres of diameter dp (Canelas et al. 2016 form).
+      !> Hertz contact of the particles as spheres of diameter dp (Canelas et
+      !> al. 2016 form), first pass: the overlapping pairs, counted per pair of
+      !> touching bodies.
       subroutine pair_hertz(i, j, bi, bj, d, r2)
          integer, intent(in) :: i, j, bi, bj
          real(rp), intent(in) :: d(2), r2
-         real(rp) :: overlap, n(2), ul, kn, gn, mstar, lne, fn, kstiff, vij(2)
+         real(rp) :: overlap
+         integer :: k
          overlap = prm%dp - sqrt(r2)
          if (overlap <= 0.0_rp) return
-         vij = p%v(:, i) - p%v(:, j)
-         n = d/sqrt(r2)
-         ul = dot_product(vij, n)
-         kn = 4.0_rp/(3.0_rp*tau_pair(bi, bj))*sqrt(0.25_rp*prm%dp)
-         mstar = pair_mass(bi, bj)
-         lne = log(restitution(bi, bj))
-         gn = -2.0_rp*lne*sqrt(mstar*kn)/sqrt(pi**2 + lne**2)
-         fn = max(kn*overlap**1.5_rp - gn*overlap**0.25_rp*ul, 0.0_rp)
-         call viscous(i, j, bi, bj, gn*overlap**0.25_rp)
          ct%max_penetration = max(ct%max_penetration, overlap)
-         kstiff = 1.5_rp*kn*sqrt(overlap)
-         ct%dt_limit = min(ct%dt_limit, 0.2_rp*sqrt(mstar/max(kstiff, tiny(1.0_rp))))
-         call apply(i, j, bi, bj, fn*n, .true.)
-         call friction(i, j, bi, bj, n, fn, vij)
+         k = key_of(p%body(i), p%body(j))
+         ct%kw(k) = ct%kw(k) + 1.0_rp
+         call store_pair(i, j, bi, bj, d/sqrt(r2), overlap, 0.0_rp, k)
       end subroutine pair_hertz
+
+      !> Second pass: the body mass shared among the pairs of a contact sets
+      !> each pair's damping, so that the contact as a whole rebounds with the
+      !> restitution coefficient whatever the number of particle pairs.
+      subroutine apply_hertz_pairs()
+         integer :: m, i, j, bi, bj
+         real(rp) :: overlap, n(2), ul, kn, gn, mstar, lne, fn, kstiff, vij(2)
+         do m = 1, ct%np
+            i = ct%pij(1, m); j = ct%pij(2, m); bi = ct%pb(1, m); bj = ct%pb(2, m)
+            n = ct%pn(:, m); overlap = ct%pw(m)
+            vij = p%v(:, i) - p%v(:, j)
+            ul = dot_product(vij, n)
+            kn = 4.0_rp/(3.0_rp*tau_pair(bi, bj))*sqrt(0.25_rp*prm%dp)
+            mstar = body_mass(bi, bj)/ct%kw(ct%pkey(m))
+            lne = log(restitution(bi, bj))
+            gn = -2.0_rp*lne*sqrt(mstar*kn)/sqrt(pi**2 + lne**2)
+            fn = max(kn*overlap**1.5_rp - gn*overlap**0.25_rp*ul, 0.0_rp)
+            call viscous(i, j, bi, bj, gn*overlap**0.25_rp)
+            kstiff = 1.5_rp*kn*sqrt(overlap)
+            ct%dt_limit = min(ct%dt_limit, 0.2_rp*sqrt(mstar/max(kstiff, tiny(1.0_rp))))
+            call apply(i, j, bi, bj, fn*n, .true.)
+            call friction(i, j, bi, bj, n, fn, vij)
+         end do
+      end subroutine apply_hertz_pairs
+
+      !> Reduced mass of two floating bodies, or the floating one's mass
+      !> against a wall, fixed or prescribed body.
+      real(rp) function body_mass(bi, bj) result(m)
+         integer, intent(in) :: bi, bj
+         if (floating(bi) .and. floating(bj)) then
+            m = bodies(bi)%mass*bodies(bj)%mass/(bodies(bi)%mass + bodies(bj)%mass)
+         else if (floating(bi)) then
+            m = bodies(bi)%mass
+         else
+            m = bodies(bj)%mass
+         end if
+      end function body_mass
 
       !> The seed paper's f = n R(psi) P(xi) eps(z, u_L), Eq. 2-6, first pass:
       !> the geometry of the pair, and the contact centre of its two bodies.
