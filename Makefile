@@ -27,7 +27,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test unit unit-debug pytest run lint bench clean figures
+.PHONY: all debug deps test unit unit-debug pytest run lint bench clean figures paper
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -74,6 +74,16 @@ run: deps build/mbsph
 
 lint: deps
 	bash tools/lint.sh
+
+# the seed paper's cases TC1a, TC1b, TC2, TC3 with every contact model, and their
+# figures (doc/img/paper_*.png); TC4 (in water) with `make paper`
+PAPER_FIG := $(foreach c,tc1a_rolling tc1b_sliding tc2_jump tc3_receding,$(foreach m,dynamic repulsive noncohesive noncohesive_spring hertz,$(c)_$(m)))
+figures: deps build/mbsph
+	@for c in $(PAPER_FIG); do echo "== $$c"; build/mbsph input/paper/$$c.nml > /dev/null || exit 1; done
+	$(PYTHON) -m post.paper_cases OUT/paper --out doc/img
+
+paper: figures
+	@for m in dynamic repulsive noncohesive noncohesive_spring hertz; do build/mbsph input/paper/tc4_stack_$$m.nml > /dev/null || exit 1; done
 
 bench: deps build/mbsph
 	$(PYTHON) bench/run_bench.py
