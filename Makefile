@@ -27,7 +27,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test unit unit-debug pytest run lint bench clean figures paper
+.PHONY: all debug deps test unit unit-debug pytest run lint bench clean figures paper stability
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -84,6 +84,11 @@ figures: deps build/mbsph
 
 paper: figures
 	@for m in dynamic repulsive noncohesive noncohesive_spring hertz; do build/mbsph input/paper/tc4_stack_$$m.nml > /dev/null || exit 1; done
+
+# hard contact cases, long runs (about 15 minutes); verdicts into doc/stability.md
+stability: deps build/mbsph
+	@for c in input/stability/*.nml; do echo "== $$c"; build/mbsph $$c > /dev/null || exit 1; done
+	$(PYTHON) -m post.stability OUT/stability/* --table doc/stability.md
 
 bench: deps build/mbsph
 	$(PYTHON) bench/run_bench.py

@@ -271,7 +271,7 @@ contains
               call viscous(i, j, bi, bj, m_ij*ct%k10b2*ct%r_f*ct%c*rp_w/prm%h)
             end if
             ! stiffness of the static term for the time step: d(R)/d(psi)
-            kstiff = m_ij*ct%k10b2*0.005_rp*ct%c**2/prm%h*rp_w/(2.0_rp*prm%h)* &
+            kstiff = m_ij*ct%k10b2*0.005_rp*ct%c**2/prm%h*rp_w*sqrt(q + ct%q0)/(1.0_rp - q)/(2.0_rp*prm%h)* &
                      (1.0_rp/sqrt(q + ct%q0) + 0.5_rp*(1.0_rp - q)/(q + ct%q0)**1.5_rp)
             ct%dt_limit = min(ct%dt_limit, 0.3_rp*sqrt(m_ij/max(kstiff, tiny(1.0_rp))))
             call apply(i, j, bi, bj, fn*n, .true.)

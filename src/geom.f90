@@ -82,7 +82,8 @@ contains
          j = modulo(i, na) + 1
          do k = 1, nb
             l = modulo(k, nb) + 1
-            if (segments_cross(a(:, i), a(:, j), b(:, k), b(:, l), scale*scale)) then
+            ! cross products are lengths squared: the tolerance is scale times a length
+            if (segments_cross(a(:, i), a(:, j), b(:, k), b(:, l), scale*max(maxval(abs(a)), maxval(abs(b)), 1.0_rp))) then
                ov = .true.
                return
             end if

@@ -3,7 +3,7 @@
 module input_body
    use kinds, only: rp
    use constants, only: name_len, msg_len, pi
-   use input_check, only: open_case, read_failed, check_real, check_int, check_choice, group_count, &
+   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, check_choice, group_count, &
                           int_str, real_str
    use errors, only: input_error
    use geom, only: polygon_area, polygon_self_intersects
@@ -85,7 +85,7 @@ contains
       do k = 1, nb
          call to_vars(dflt)
          read (u_, nml=body, iostat=ios, iomsg=msg)
-         if (read_failed(file, 'body', ios, msg)) return
+         if (read_failed_open(u_, file, 'body', ios, msg)) return
          call from_vars(bodies(k))
          g = 'body #'//int_str(k)
          associate (c => bodies(k))

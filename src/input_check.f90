@@ -8,7 +8,7 @@ module input_check
    use errors, only: input_error, fatal
    implicit none
    private
-   public :: open_case, scan_groups, group_count, read_failed, check_real, check_int, &
+   public :: open_case, scan_groups, group_count, read_failed, read_failed_open, check_real, check_int, &
              check_choice, lower, real_str, int_str
 
    character(len=*), parameter :: known_groups(*) = [character(len=16) :: &
@@ -181,6 +181,15 @@ contains
       end do
       close (u)
    end function group_count
+
+   !> read_failed for a group read from an open unit: the unit is closed first
+   !> when the read failed (the report reopens the file).
+   logical function read_failed_open(u, file, group, ios, msg) result(failed)
+      integer, intent(in) :: u, ios
+      character(len=*), intent(in) :: file, group, msg
+      if (ios > 0) close (u)
+      failed = read_failed(file, group, ios, msg)
+   end function read_failed_open
 
    !> Report a failed namelist read. Returns .false. at a clean end of file.
    logical function read_failed(file, group, ios, msg) result(failed)

@@ -3,7 +3,7 @@
 module input_geometry
    use kinds, only: rp
    use constants, only: name_len, msg_len
-   use input_check, only: open_case, read_failed, check_real, check_int, check_choice, &
+   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, check_choice, &
                           group_count, int_str, real_str
    use errors, only: input_error
    use geom, only: polygon_area, polygon_self_intersects
@@ -68,7 +68,7 @@ contains
       do k = 1, nbox
          call defaults()
          read (u, nml=box, iostat=ios, iomsg=msg)
-         if (read_failed(file, 'box', ios, msg)) return
+         if (read_failed_open(u, file, 'box', ios, msg)) return
          n = n + 1
          g = 'box #'//int_str(k)
          if (.not. (xmax > xmin)) call input_error(file, g, 'xmax', 'must be greater than xmin = '// &
@@ -86,7 +86,7 @@ contains
       do k = 1, npoly
          call defaults()
          read (u, nml=polygon, iostat=ios, iomsg=msg)
-         if (read_failed(file, 'polygon', ios, msg)) return
+         if (read_failed_open(u, file, 'polygon', ios, msg)) return
          n = n + 1
          g = 'polygon #'//int_str(k)
          call check_int(file, g, 'nvert', nvert, 3, max_vert)
@@ -107,7 +107,7 @@ contains
       do k = 1, nslope
          call defaults()
          read (u, nml=slope, iostat=ios, iomsg=msg)
-         if (read_failed(file, 'slope', ios, msg)) return
+         if (read_failed_open(u, file, 'slope', ios, msg)) return
          n = n + 1
          g = 'slope #'//int_str(k)
          call check_int(file, g, 'layers', layers, 0, 100)

@@ -271,3 +271,33 @@ def test_debug_build_runs_bodies_in_water(tmp_path: Path, mbsph_debug: Path) -> 
     text = text.replace("  overwrite = .true.", "  overwrite = .true.\n  max_steps = 60")
     proc, _ = run_case(text, tmp_path, binary=mbsph_debug)
     assert_ok(proc)
+
+
+def test_body_input_errors_name_group_and_variable(tmp_path: Path, mbsph: Path) -> None:
+    """Bad &body input stops with the file, the group and the variable; a body placed
+    exactly on a floor (touching, not overlapping) is accepted."""
+    base = """&run out_dir='out' /
+&domain xmax=1, ymax=1 /
+&numerics dp=0.01 /
+&box role='solid', xmin=0, xmax=1, ymin=0, ymax=0.05 /
+"""
+    cases = {
+        "&body shape='box', x=0.5, y=0.075, width=0.1, height=0.05, colour=2 /": ("&body", "colour"),
+        "&body shape='star', x=0.5, y=0.5, radius=0.1, density=1000 /": ("&body #1", "shape"),
+        "&body shape='circle', x=0.5, y=0.5, radius=0.1, density=-5 /": ("&body #1", "density"),
+        "&body shape='circle', x=0.5, y=0.12, radius=0.1, density=1000 /": ("&body #1", "overlaps"),
+        "&contact model='glue' /": ("&contact", "model"),
+    }
+    for k, (body_text, (group, word)) in enumerate(cases.items()):
+        folder = tmp_path / f"c{k}"
+        folder.mkdir()
+        proc, out = run_case(base + body_text + "\n", folder, binary=mbsph)
+        assert proc.returncode == 2, f"{body_text}: exit {proc.returncode}\n{proc.stderr}"
+        assert "case.nml" in proc.stderr and group in proc.stderr and word in proc.stderr, proc.stderr
+        assert not (out / "snap_00000.h5").exists()
+    folder = tmp_path / "ok"
+    folder.mkdir()
+    text = base.replace("out_dir='out'", "out_dir='out', t_end=0.01") + \
+        "&body shape='box', x=0.5, y=0.075, width=0.1, height=0.05, density=2000 /\n"
+    proc, _ = run_case(text, folder, binary=mbsph)
+    assert_ok(proc)
