@@ -147,33 +147,18 @@ contains
       hinv = 1.0_rp/prm%h
       allocate (gv(4, p%n))          ! du/dx, du/dy, dv/dx, dv/dy
       gv = 0.0_rp
-      do c = 1, g%ncell - g%nx - 1
-         do i = g%cstart(c), g%cstart(c + 1) - 1
-            vi = p%mass(i)/p%rho(i)
-            jlo = [i + 1, g%cstart(c + g%nx - 1)]
-            jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
-            do r = 1, 2
-               neighbours: do j = jlo(r), jhi(r)
-                  dx = p%x(1, i) - p%x(1, j)
-                  dy = p%x(2, i) - p%x(2, j)
-                  r2 = dx*dx + dy*dy
-                  if (r2 >= prm%support2) cycle neighbours
-                  q = sqrt(r2)*hinv
-                  if (prm%kernel == kernel_cubic) then
-                     fac = prm%fw*KF_CUBIC(q)
-                  else
-                     fac = prm%fw*KF_WENDLAND(q)
-                  end if
-                  vj = p%mass(j)/p%rho(j)
-                  dvx = p%v(1, j) - p%v(1, i)
-                  dvy = p%v(2, j) - p%v(2, i)
-                  ! grad v_i = sum_j V_j (v_j - v_i) grad_i W; grad_j W_ji = -grad_i W_ij
-                  gv(:, i) = gv(:, i) + vj*fac*[dvx*dx, dvx*dy, dvy*dx, dvy*dy]
-                  gv(:, j) = gv(:, j) + vi*fac*[dvx*dx, dvx*dy, dvy*dx, dvy*dy]
-               end do neighbours
-            end do
-         end do
-      end do
+      ! one copy of the sweep per kernel: no kernel test inside the pair loop
+      if (prm%kernel == kernel_cubic) then
+#define KFAC(q) KF_CUBIC(q)
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "sps_pairs.inc"
+#undef KFAC
+      else
+#define KFAC(q) KF_WENDLAND(q)
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "sps_pairs.inc"
+#undef KFAC
+      end if
       do i = 1, p%n
          sxx = gv(1, i)
          syy = gv(4, i)

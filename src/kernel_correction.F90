@@ -30,34 +30,18 @@ contains
       hinv = 1.0_rp/prm%h
       lm(:, 1:p%n) = 0.0_rp
       ! B = sum_j V_j grad W_ij (x_j - x_i)^T = -sum_j V_j F r r^T (symmetric)
-      do c = 1, g%ncell - g%nx - 1
-         do i = g%cstart(c), g%cstart(c + 1) - 1
-            vi = p%mass(i)/p%rho(i)
-            jlo = [i + 1, g%cstart(c + g%nx - 1)]
-            jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
-            do r = 1, 2
-               neighbours: do j = jlo(r), jhi(r)
-                  dx = p%x(1, i) - p%x(1, j)
-                  dy = p%x(2, i) - p%x(2, j)
-                  r2 = dx*dx + dy*dy
-                  if (r2 >= prm%support2) cycle neighbours
-                  q = sqrt(r2)*hinv
-                  if (prm%kernel == kernel_cubic) then
-                     fac = -prm%fw*KF_CUBIC(q)
-                  else
-                     fac = -prm%fw*KF_WENDLAND(q)
-                  end if
-                  vj = p%mass(j)/p%rho(j)
-                  lm(1, i) = lm(1, i) + vj*fac*dx*dx
-                  lm(2, i) = lm(2, i) + vj*fac*dx*dy
-                  lm(3, i) = lm(3, i) + vj*fac*dy*dy
-                  lm(1, j) = lm(1, j) + vi*fac*dx*dx
-                  lm(2, j) = lm(2, j) + vi*fac*dx*dy
-                  lm(3, j) = lm(3, j) + vi*fac*dy*dy
-               end do neighbours
-            end do
-         end do
-      end do
+      ! one copy of the sweep per kernel: no kernel test inside the pair loop
+      if (prm%kernel == kernel_cubic) then
+#define KFAC(q) KF_CUBIC(q)
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "kgc_pairs.inc"
+#undef KFAC
+      else
+#define KFAC(q) KF_WENDLAND(q)
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "kgc_pairs.inc"
+#undef KFAC
+      end if
       do i = 1, p%n
          a11 = lm(1, i); a12 = lm(2, i); a22 = lm(3, i)
          det = a11*a22 - a12*a12
@@ -88,32 +72,18 @@ contains
          msum(i) = p%mass(i)*prm%w0
          wsum(i) = p%mass(i)/p%rho(i)*prm%w0
       end do
-      do c = 1, g%ncell - g%nx - 1
-         particles: do i = g%cstart(c), g%cstart(c + 1) - 1
-            if (p%kind(i) /= kind_fluid) cycle particles
-            jlo = [i + 1, g%cstart(c + g%nx - 1)]
-            jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
-            do r = 1, 2
-               neighbours: do j = jlo(r), jhi(r)
-                  if (p%kind(j) /= kind_fluid) cycle neighbours
-                  dx = p%x(1, i) - p%x(1, j)
-                  dy = p%x(2, i) - p%x(2, j)
-                  r2 = dx*dx + dy*dy
-                  if (r2 >= prm%support2) cycle neighbours
-                  q = sqrt(r2)*hinv
-                  if (prm%kernel == kernel_cubic) then
-                     w = prm%aw*KW_CUBIC(q)
-                  else
-                     w = prm%aw*KW_WENDLAND(q)
-                  end if
-                  msum(i) = msum(i) + p%mass(j)*w
-                  wsum(i) = wsum(i) + p%mass(j)/p%rho(j)*w
-                  msum(j) = msum(j) + p%mass(i)*w
-                  wsum(j) = wsum(j) + p%mass(i)/p%rho(i)*w
-               end do neighbours
-            end do
-         end do particles
-      end do
+      ! one copy of the sweep per kernel: no kernel test inside the pair loop
+      if (prm%kernel == kernel_cubic) then
+#define KFAC(q) KW_CUBIC(q)
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "shepard_pairs.inc"
+#undef KFAC
+      else
+#define KFAC(q) KW_WENDLAND(q)
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "shepard_pairs.inc"
+#undef KFAC
+      end if
       do i = 1, p%n
          if (p%kind(i) == kind_fluid) p%rho(i) = msum(i)/wsum(i)
       end do
