@@ -5,6 +5,9 @@ FC        = mpif90
 endif
 HDF5_INC  ?= /usr/include/hdf5/openmpi
 HDF5_LIB  ?= /usr/lib/x86_64-linux-gnu/hdf5/openmpi
+# FFTW 3: its Fortran interface fftw3.f03 is included by src/wave_fftw.f90 only
+FFTW_INC  ?= /usr/include
+FFTW_LIB  ?= /usr/lib/x86_64-linux-gnu
 # ARCH: -march=native here; `make PORTABLE=1` for a cluster build whose
 # login and compute nodes differ.
 ifdef PORTABLE
@@ -19,6 +22,8 @@ PYTHON    = .venv/bin/python
 # the specialised pair loops share one interface; each variant leaves the
 # arguments of the models it does not use untouched, by design
 XFLAGS_fluid_forces = -Wno-unused-dummy-argument
+XFLAGS_wave_fftw = -I$(FFTW_INC)
+LIBS      = -L$(HDF5_LIB) -lhdf5_fortran -lhdf5 -L$(FFTW_LIB) -lfftw3
 
 # every object is built twice: build/ (release) and build/debug/
 SRC       := $(sort $(wildcard src/*.f90 src/*.F90))
@@ -37,12 +42,12 @@ $(1)/obj/%.o: src/%.f90 | $(1)/obj $(1)/mod
 $(1)/obj/%.o: src/%.F90 | $(1)/obj $(1)/mod
 	$$(FC) $(2) -I$$(HDF5_INC) -Isrc -J$(1)/mod $$(XFLAGS_$$*) -c $$< -o $$@
 $(1)/mbsph: $(addprefix $(1)/obj/,$(addsuffix .o,$(NAMES)))
-	$$(FC) $(2) -o $$@ $$^ -L$$(HDF5_LIB) -lhdf5_fortran -lhdf5
+	$$(FC) $(2) -o $$@ $$^ $$(LIBS)
 $(1)/obj/testing.o: tests/unit/testing.f90 | $(1)/obj $(1)/mod
 	$$(FC) $(2) -J$(1)/mod -c $$< -o $$@
 $(1)/tests/%: tests/unit/%.f90 $(1)/obj/testing.o $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) | $(1)/tests
 	$$(FC) $(2) -I$(1)/mod -J$(1)/tests -o $$@ $$< $(1)/obj/testing.o \
-	  $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) -L$$(HDF5_LIB) -lhdf5_fortran -lhdf5
+	  $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) $$(LIBS)
 $(1)/deps.mk: $(SRC) tools/fdeps.sh | $(1)/obj
 	tools/fdeps.sh $(1)/obj $(SRC) > $$@
 $(1)/obj $(1)/mod $(1)/tests:
