@@ -10,7 +10,9 @@ Tools, each runnable as ``python -m post.<tool> --help``:
 - :mod:`post.plot_field`: particles coloured by pressure, velocity or density;
 - :mod:`post.plot_series`: time series of ``energy.csv`` columns;
 - :mod:`post.dambreak`: surge front against Martin and Moyce (1952);
-- :mod:`post.hydrostatic`: pressure profile of a still tank.
+- :mod:`post.hydrostatic`: pressure profile of a still tank;
+- :mod:`post.waves`: wave heights, periods, spectra and reflection from ``gauges.csv``;
+- :mod:`post.armour`: displaced armour units, Nod and Ns from ``armour.csv`` and ``bodies.csv``.
 
 Requirements: numpy, h5py, matplotlib, f90nml (post/requirements.txt). Figures
 are drawn with matplotlib's Agg backend and written as PNG files.
