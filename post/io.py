@@ -128,7 +128,7 @@ def list_snapshots(out_dir: str | Path) -> list[Path]:
 
 
 def read_snapshot(path: str | Path) -> Snapshot:
-    """Read one snapshot file into a :class:`Snapshot`."""
+    """Read one snapshot file into a :class:`Snapshot`, particles in id order."""
     path = Path(path)
     with h5py.File(path, "r") as f:
         data = {
@@ -142,6 +142,11 @@ def read_snapshot(path: str | Path) -> Snapshot:
         data[name] = np.asarray(data[name], dtype=float).reshape(-1)
     for name in ("kind", "body", "id"):
         data[name] = np.asarray(data[name], dtype=np.int64).reshape(-1)
+    # a run on several ranks writes each rank's particles in turn: put them in id order
+    if np.any(np.diff(data["id"]) < 0):
+        order = np.argsort(data["id"], kind="stable")
+        for name in ("position", "velocity", "density", "pressure", "mass", "kind", "body", "id"):
+            data[name] = data[name][order]
     n = data["position"].shape[0]
     return Snapshot(
         path=path,

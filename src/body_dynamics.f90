@@ -5,11 +5,12 @@ module body_dynamics
    use kinds, only: rp
    use constants, only: kind_floating, kind_fixed, kind_moving
    use particles, only: particles_t
+   use comm, only: comm_size, comm_sum
    implicit none
    private
    public :: body_t, motion_floating, motion_fixed, motion_prescribed, bodies_place, bodies_fluid_forces, &
              bodies_save, bodies_predict, bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, &
-             bodies_accel2, body_of, bodies_energy
+             bodies_accel2, body_of, bodies_energy, bodies_sum_ranks
 
    integer, parameter :: motion_floating = 1, motion_fixed = 2, motion_prescribed = 3
 
@@ -75,7 +76,7 @@ contains
    end subroutine bodies_place
 
    !> Force and torque of the fluid on each floating body: the pair-loop
-   !> acceleration of its particles times their mass.
+   !> acceleration of its (owned) particles times their mass.
    subroutine bodies_fluid_forces(bodies, p, acc)
       type(body_t), intent(inout) :: bodies(:)
       type(particles_t), intent(in) :: p
@@ -86,7 +87,7 @@ contains
          bodies(b)%f_fluid = 0.0_rp
          bodies(b)%t_fluid = 0.0_rp
       end do
-      do i = 1, p%n
+      do i = 1, p%n_own
          if (p%kind(i) /= kind_floating) cycle
          b = body_of(bodies, p%body(i))
          f = p%mass(i)*acc(:, i)
@@ -95,6 +96,33 @@ contains
          bodies(b)%t_fluid = bodies(b)%t_fluid + r(1)*f(2) - r(2)*f(1)
       end do
    end subroutine bodies_fluid_forces
+
+   !> Forces, torques and contact coefficients of every body summed over the
+   !> ranks, each of which summed its own particles and pairs: one reduction
+   !> of one packed array per force evaluation.
+   subroutine bodies_sum_ranks(bodies)
+      type(body_t), intent(inout) :: bodies(:)
+      integer, parameter :: m = 11
+      real(rp) :: buf(m*size(bodies))
+      integer :: b, k
+      if (comm_size() == 1) return
+      do b = 1, size(bodies)
+         k = (b - 1)*m
+         associate (x => bodies(b))
+            buf(k + 1:k + m) = [x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric, x%c_lin, x%c_rot]
+         end associate
+      end do
+      call comm_sum(buf)
+      do b = 1, size(bodies)
+         k = (b - 1)*m
+         associate (x => bodies(b))
+            x%f_fluid = buf(k + 1:k + 2); x%t_fluid = buf(k + 3)
+            x%f_normal = buf(k + 4:k + 5); x%t_normal = buf(k + 6)
+            x%f_fric = buf(k + 7:k + 8); x%t_fric = buf(k + 9)
+            x%c_lin = buf(k + 10); x%c_rot = buf(k + 11)
+         end associate
+      end do
+   end subroutine bodies_sum_ranks
 
    !> Linear and angular acceleration of a body from the forces of the last evaluation.
    pure subroutine accel(b, a, alpha)

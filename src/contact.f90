@@ -13,9 +13,10 @@ module contact
    use body_dynamics, only: body_t, motion_floating, body_of
    use input_body, only: contact_cfg
    use kernel, only: kernel_gradw
+   use comm, only: comm_size, comm_allgatherv
    implicit none
    private
-   public :: contact_t, contact_init, contact_forces, model_dynamic, model_repulsive, model_noncohesive, &
+   public :: contact_t, contact_init, contact_forces, contact_body_limits, model_dynamic, model_repulsive, model_noncohesive, &
              model_spring, model_hertz
 
    integer, parameter :: model_dynamic = 1, model_repulsive = 2, model_noncohesive = 3, model_spring = 4, &
@@ -90,11 +91,12 @@ contains
       ct%np = 0
       ct%nk = 0
       call find_candidates(ct, prm, p, bodies)
-      do i = 1, p%n
+      ! pairs from the owned particles: every pair is met on one rank only
+      do i = 1, p%n_own
          if (.not. ct%cand(i)) cycle
          c = g%icell(i)
-         jlo = [i + 1, g%cstart(c + g%nx - 1)]
-         jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
+         jlo = [i + 1, g%cstart(c + g%stride - 1)]
+         jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%stride + 2) - 1]
          bi = body_of(bodies, p%body(i))
          do r = 1, 2
             partners: do j = jlo(r), jhi(r)
@@ -109,6 +111,8 @@ contains
             end do partners
          end do
       end do
+      ! a contact split between ranks: its centre and pair count over all of them
+      if (ct%model /= model_dynamic .and. comm_size() > 1) call merge_keys(ct)
       if (ct%np > 0) then
          if (ct%model == model_hertz) then
             call apply_hertz_pairs()
@@ -116,12 +120,6 @@ contains
             call apply_eq_pairs()
          end if
       end if
-      ! explicit stability of the velocity-proportional terms: dt < 2 m / c
-      do k = 1, size(bodies)
-         if (bodies(k)%motion /= motion_floating) cycle
-         if (bodies(k)%c_lin > 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.5_rp*bodies(k)%mass/bodies(k)%c_lin)
-         if (bodies(k)%c_rot > 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.5_rp*bodies(k)%inertia/bodies(k)%c_rot)
-      end do
    contains
       !> A velocity-proportional coefficient c acting between particles i and j.
       subroutine viscous(i, j, bi, bj, c)
@@ -455,6 +453,42 @@ contains
          t = (1.0_rp - bodies(k1)%poisson**2)/bodies(k1)%young + (1.0_rp - bodies(k2)%poisson**2)/bodies(k2)%young
       end function tau_pair
    end subroutine contact_forces
+
+   !> Explicit stability of the velocity-proportional terms, dt < 2 m / c,
+   !> once the bodies' coefficients are summed over the ranks.
+   subroutine contact_body_limits(ct, bodies)
+      type(contact_t), intent(inout) :: ct
+      type(body_t), intent(in) :: bodies(:)
+      integer :: k
+      do k = 1, size(bodies)
+         if (bodies(k)%motion /= motion_floating) cycle
+         if (bodies(k)%c_lin > 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.5_rp*bodies(k)%mass/bodies(k)%c_lin)
+         if (bodies(k)%c_rot > 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.5_rp*bodies(k)%inertia/bodies(k)%c_rot)
+      end do
+   end subroutine contact_body_limits
+
+   !> The contact table (weighted centre and weight of each pair of touching
+   !> bodies) summed over the ranks, in rank order, so that every rank that
+   !> holds a pair of the contact sees the same centre.
+   subroutine merge_keys(ct)
+      type(contact_t), intent(inout) :: ct
+      real(rp), allocatable :: mine(:), all(:)
+      integer :: k, m
+      allocate (mine(5*ct%nk))
+      do k = 1, ct%nk
+         mine(5*k - 4:5*k) = [real(ct%kid(1, k), rp), real(ct%kid(2, k), rp), ct%kx(:, k), ct%kw(k)]
+      end do
+      call comm_allgatherv(mine, all)
+      do k = 1, ct%nk
+         ct%kx(:, k) = 0.0_rp
+         ct%kw(k) = 0.0_rp
+         do m = 1, size(all)/5
+            if (nint(all(5*m - 4)) /= ct%kid(1, k) .or. nint(all(5*m - 3)) /= ct%kid(2, k)) cycle
+            ct%kx(:, k) = ct%kx(:, k) + all(5*m - 2:5*m - 1)
+            ct%kw(k) = ct%kw(k) + all(5*m)
+         end do
+      end do
+   end subroutine merge_keys
 
    !> The coefficient A of Eq. 4 (repulsive), 5 (non-cohesive) or 6
    !> (non-cohesive with a static spring), per unit mass [m/s2].

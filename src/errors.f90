@@ -1,7 +1,9 @@
 !> Fatal errors: one clear message naming the cause, then every rank stops
-!> with a non-zero exit code.
+!> with a non-zero exit code. An error every rank meets (bad input) is
+!> reported once, by rank 0; an error of one rank alone by that rank, with
+!> its number, a moment later (comm_grace).
 module errors
-   use comm, only: comm_abort, comm_rank, comm_size
+   use comm, only: comm_abort, comm_rank, comm_size, comm_grace
    use logger, only: log_error
    implicit none
    private
@@ -18,6 +20,7 @@ contains
       c = 1
       if (present(code)) c = code
       if (comm_size() > 1) then
+         call comm_grace()
          write (r, '(i0)') comm_rank()
          call log_error('mbsph: error (rank '//trim(r)//'): '//msg)
       else

@@ -12,6 +12,7 @@ module fluid_forces
    use eos, only: eos_update, eos_density_at_depth
    use kernel, only: kernel_cubic
    use kernel_correction, only: kgc_matrices
+   use comm_halo, only: comm_halo_forward, comm_halo_reverse
    implicit none
    private
    public :: forces_work_t, forces_init, forces_compute
@@ -28,11 +29,11 @@ module fluid_forces
    end type forces_work_t
 
    abstract interface
-      subroutine pairs_iface(n, ncell, nx, cstart, x, v, rho, p, mass, kind, cs, rhod, lm, tau, &
+      subroutine pairs_iface(n, ncell, stride, cstart, x, v, rho, p, mass, kind, cs, rhod, lm, tau, &
                              h, support2, eta2, fw, alpha, nu4, dcoef, acc, drho, mumax)
          import :: rp
          implicit none
-         integer, intent(in) :: n, ncell, nx
+         integer, intent(in) :: n, ncell, stride
          integer, intent(in) :: cstart(:)
          real(rp), intent(in) :: x(2, n), v(2, n), rho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
          integer, intent(in) :: kind(n)
@@ -104,7 +105,8 @@ contains
    end subroutine ensure
 
    !> Pressure from density, then every pair: w%acc (gravity included, fluid
-   !> only meaningful) and w%drho for all particles.
+   !> only meaningful) and w%drho for all particles; on several ranks the
+   !> halo's share still has to be sent to its owners.
    subroutine forces_compute(prm, g, p, w)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
@@ -126,10 +128,12 @@ contains
       w%acc(:, 1:n) = 0.0_rp
       w%drho(1:n) = 0.0_rp
       w%mumax = 0.0_rp
-      call pairs(n, g%ncell, g%nx, g%cstart, p%x, p%v, p%rho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+      call pairs(n, g%ncell, g%stride, g%cstart, p%x, p%v, p%rho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
                  prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
                  w%acc, w%drho, w%mumax)
-      do i = 1, n
+      ! gravity on the owned particles only: the pair sums of the halo
+      ! copies are added to their owners afterwards (comm_halo_reverse)
+      do i = 1, p%n_own
          if (p%kind(i) == kind_fluid) w%acc(2, i) = w%acc(2, i) - prm%g
       end do
    end subroutine forces_compute
@@ -159,6 +163,7 @@ contains
 #include "sps_pairs.inc"
 #undef KFAC
       end if
+      call comm_halo_reverse(gv, p%n_own)
       do i = 1, p%n
          sxx = gv(1, i)
          syy = gv(4, i)
@@ -171,6 +176,7 @@ contains
          tau(3, i) = (2.0_rp*nut*syy + sk)/p%rho(i)
          if (p%kind(i) /= kind_fluid) tau(:, i) = 0.0_rp
       end do
+      call comm_halo_forward(tau, p%n_own)
    end subroutine sps_stress
 
 #define PAIRS_NAME pairs_k1_v1_d0_g0

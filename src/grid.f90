@@ -1,20 +1,29 @@
-!> Neighbour grid: square cells of side 2h over the domain, one empty ghost
-!> column on each side and an empty ghost row above and below. Particles are
-!> sorted by cell (counting sort), so that a cell and its right neighbour,
-!> and the three cells above, are each one contiguous index range: the
-!> half stencil of a pair loop is two ranges per particle.
+!> Neighbour grid: square cells of side 2h, numbered column by column (y
+!> fastest), with an empty ghost row below and above every column. A rank
+!> holds the columns of its slab of the domain (all of them on one rank),
+!> an empty ghost column on the left, and on the right either an empty
+!> ghost column or the halo: the first column of the next rank's slab.
+!> Particles are sorted by cell (counting sort), so that a cell and the one
+!> above it, and the three neighbouring cells of the next column, are each
+!> one contiguous index range: the half stencil of a pair loop is two
+!> ranges per particle. Columns being contiguous, the owned particles come
+!> first and the halo (the last column) after them.
 module grid
    use kinds, only: rp
    use particles, only: particles_t, particles_permute
    implicit none
    private
-   public :: grid_t, grid_init, grid_sort, grid_cell_of, grid_visit_pairs
+   public :: grid_t, grid_init, grid_sort, grid_cell_of, grid_column, grid_visit_pairs, grid_first_column_end, &
+             grid_add_halo
 
    type :: grid_t
       real(rp) :: x0, y0          !< lower-left corner of the domain [m]
       real(rp) :: cs              !< cell side = 2h [m]
-      integer :: ncx, ncy         !< cells over the domain
-      integer :: nx, ny           !< with ghost columns and rows: ncx+2, ncy+2
+      integer :: ncx_all          !< cell columns over the whole domain
+      integer :: col0             !< first column of this rank's slab (0-based, global)
+      integer :: ncx, ncy         !< cell columns of this rank's slab; cell rows
+      integer :: nx, ny           !< with the ghost (or halo) columns and the ghost rows: ncx+2, ncy+2
+      integer :: stride           !< index distance of neighbouring columns: ny
       integer :: ncell            !< nx*ny
       integer, allocatable :: cstart(:)   !< particles of cell c: cstart(c) .. cstart(c+1)-1
       integer, allocatable :: cell(:)     !< cell of each particle (scratch)
@@ -24,33 +33,54 @@ module grid
 
 contains
 
-   subroutine grid_init(g, xmin, xmax, ymin, ymax, h)
+   !> The grid over the domain, or with col_lo/col_hi over the cell columns
+   !> col_lo .. col_hi-1 (0-based) of the domain: one rank's slab.
+   subroutine grid_init(g, xmin, xmax, ymin, ymax, h, col_lo, col_hi)
       type(grid_t), intent(out) :: g
       real(rp), intent(in) :: xmin, xmax, ymin, ymax, h
+      integer, intent(in), optional :: col_lo, col_hi
       g%cs = 2.0_rp*h
       g%x0 = xmin
       g%y0 = ymin
-      g%ncx = max(1, ceiling((xmax - xmin)/g%cs))
+      g%ncx_all = max(1, ceiling((xmax - xmin)/g%cs))
       g%ncy = max(1, ceiling((ymax - ymin)/g%cs))
+      g%col0 = 0
+      g%ncx = g%ncx_all
+      if (present(col_lo) .and. present(col_hi)) then
+         g%col0 = col_lo
+         g%ncx = col_hi - col_lo
+      end if
       g%nx = g%ncx + 2
       g%ny = g%ncy + 2
+      g%stride = g%ny
       g%ncell = g%nx*g%ny
       allocate (g%cstart(g%ncell + 2))
    end subroutine grid_init
 
-   !> Cell number (1-based, ghosts included) of a point inside the domain.
+   !> Cell column (0-based, over the whole domain) of abscissa x; points
+   !> outside the domain take the nearest column. The one rule by which cells
+   !> and slab ownership are decided.
+   pure integer function grid_column(x0, cs, ncx_all, x) result(k)
+      real(rp), intent(in) :: x0, cs, x
+      integer, intent(in) :: ncx_all
+      k = min(max(int((x - x0)/cs), 0), ncx_all - 1)
+   end function grid_column
+
+   !> Cell number (1-based, ghosts included) of a point of this rank's slab;
+   !> a point of the next slab's first column falls in the last column.
    pure integer function grid_cell_of(g, x, y) result(c)
       type(grid_t), intent(in) :: g
       real(rp), intent(in) :: x, y
       integer :: ix, iy
-      ix = min(max(int((x - g%x0)/g%cs) + 1, 1), g%ncx)
+      ix = min(max(grid_column(g%x0, g%cs, g%ncx_all, x) - g%col0 + 1, 1), g%ncx + 1)
       iy = min(max(int((y - g%y0)/g%cs) + 1, 1), g%ncy)
-      c = ix + iy*g%nx + 1
+      c = iy + ix*g%ny + 1
    end function grid_cell_of
 
    !> Sort particles by cell. Particles with drop(i) set are moved past the
    !> end and forgotten; p%n shrinks accordingly. The sort is stable, so the
    !> order is a function of the previous order and the positions only.
+   !> Every particle sorted is owned: p%n_own = p%n afterwards.
    subroutine grid_sort(g, p, drop, cells)
       type(grid_t), intent(inout) :: g
       type(particles_t), intent(inout) :: p
@@ -59,7 +89,7 @@ contains
       integer :: i, c, n, nkeep
       n = p%n
       if (allocated(g%cell)) then
-         if (size(g%cell) < n) deallocate (g%cell, g%perm, g%icell)
+         if (size(g%cell) < size(p%rho)) deallocate (g%cell, g%perm, g%icell)
       end if
       if (.not. allocated(g%cell)) allocate (g%cell(size(p%rho)), g%perm(size(p%rho)), g%icell(size(p%rho)))
       g%cstart = 0
@@ -89,6 +119,7 @@ contains
       g%cstart(1) = 1
       nkeep = g%cstart(g%ncell + 1) - 1
       call particles_permute(p, g%perm(1:n), nkeep)
+      p%n_own = p%n
       g%cstart(g%ncell + 2) = n + 1
       if (present(cells)) then
          if (cells) then
@@ -99,11 +130,44 @@ contains
       end if
    end subroutine grid_sort
 
+   !> After a sort: the particles of the slab's first column are 1 .. k (the
+   !> ghost column on the left is empty); returns k.
+   integer function grid_first_column_end(g) result(k)
+      type(grid_t), intent(in) :: g
+      k = g%cstart(2*g%ny + 1) - 1
+   end function grid_first_column_end
+
+   !> Particles p%n_own+1 .. p%n are the halo, in the order of the cells of
+   !> the last column (the next rank sends its first column sorted): count
+   !> them into the cell starts. Returns .false. if they are out of order.
+   logical function grid_add_halo(g, p) result(ok)
+      type(grid_t), intent(inout) :: g
+      type(particles_t), intent(in) :: p
+      integer :: i, c, cprev, first
+      ok = .true.
+      first = g%ncell - g%ny + 1           ! first cell of the last column
+      g%cstart(first:g%ncell + 2) = 0
+      cprev = first
+      do i = p%n_own + 1, p%n
+         c = grid_cell_of(g, p%x(1, i), p%x(2, i))
+         if (c < cprev) ok = .false.
+         cprev = c
+         c = min(max(c, first), g%ncell)
+         g%cstart(c + 1) = g%cstart(c + 1) + 1
+      end do
+      g%cstart(first) = p%n_own + 1
+      do c = first, g%ncell + 1
+         g%cstart(c + 1) = g%cstart(c + 1) + g%cstart(c)
+      end do
+      g%cstart(g%ncell + 2) = p%n + 1
+   end function grid_add_halo
+
    !> Call visit(i, j, r2) once for every pair i /= j closer than sqrt(r2max),
    !> by the half stencil every pair loop uses: for particle i of cell c, the
    !> later particles of c and those of c+1 (one index range), then the cells
-   !> c+nx-1 .. c+nx+1 above (another range). Ghost cells are empty, so no
-   !> range needs a bounds test. The hot loops inline this traversal.
+   !> c+stride-1 .. c+stride+1 of the next column (another range). Ghost cells
+   !> are empty, so no range needs a bounds test. The hot loops inline this
+   !> traversal.
    subroutine grid_visit_pairs(g, x, r2max, visit)
       type(grid_t), intent(in) :: g
       real(rp), intent(in) :: x(:, :), r2max
@@ -117,10 +181,10 @@ contains
       end interface
       integer :: c, i, j, r, jlo(2), jhi(2)
       real(rp) :: r2
-      do c = 1, g%ncell - g%nx - 1
+      do c = 1, g%ncell - g%stride - 1
          do i = g%cstart(c), g%cstart(c + 1) - 1
-            jlo = [i + 1, g%cstart(c + g%nx - 1)]
-            jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%nx + 2) - 1]
+            jlo = [i + 1, g%cstart(c + g%stride - 1)]
+            jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%stride + 2) - 1]
             do r = 1, 2
                do j = jlo(r), jhi(r)
                   r2 = (x(1, i) - x(1, j))**2 + (x(2, i) - x(2, j))**2

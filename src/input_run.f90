@@ -20,15 +20,16 @@ module input_run
       real(rp) :: max_lost_fraction = 0.02_rp  !< stop when more fluid than this is lost
       real(rp) :: progress_interval = 2.0_rp  !< wall seconds between progress lines
       real(rp) :: energy_interval = 0.0_rp    !< interval of energy.csv rows [s] (0: dt_out)
+      integer :: balance_every = 100        !< steps between moves of the slab edges (0: never)
    end type run_cfg
 
    character(len=name_len) :: case_name
    real(rp) :: t_end, dt_out, max_lost_fraction, progress_interval, energy_interval
    character(len=path_len) :: out_dir
    logical :: overwrite, restart
-   integer :: checkpoint_every, max_steps
+   integer :: checkpoint_every, max_steps, balance_every
    namelist /run/ case_name, t_end, dt_out, out_dir, overwrite, restart, checkpoint_every, &
-      max_steps, max_lost_fraction, progress_interval, energy_interval
+      max_steps, max_lost_fraction, progress_interval, energy_interval, balance_every
 
 contains
 
@@ -38,6 +39,7 @@ contains
       overwrite = c%overwrite; restart = c%restart; checkpoint_every = c%checkpoint_every
       max_steps = c%max_steps; max_lost_fraction = c%max_lost_fraction
       progress_interval = c%progress_interval; energy_interval = c%energy_interval
+      balance_every = c%balance_every
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -46,6 +48,7 @@ contains
       c%overwrite = overwrite; c%restart = restart; c%checkpoint_every = checkpoint_every
       c%max_steps = max_steps; c%max_lost_fraction = max_lost_fraction
       c%progress_interval = progress_interval; c%energy_interval = energy_interval
+      c%balance_every = balance_every
    end subroutine from_vars
 
    subroutine read_run(file, c)
@@ -71,6 +74,7 @@ contains
       call check_real(file, 'run', 'max_lost_fraction', c%max_lost_fraction, 0.0_rp, 1.0_rp)
       call check_real(file, 'run', 'progress_interval', c%progress_interval, 0.0_rp, huge(1.0_rp))
       call check_real(file, 'run', 'energy_interval', c%energy_interval, 0.0_rp, huge(1.0_rp))
+      call check_int(file, 'run', 'balance_every', c%balance_every, 0, huge(1))
    end subroutine read_run
 
    subroutine write_run(u, c)

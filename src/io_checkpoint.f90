@@ -1,13 +1,19 @@
 !> Checkpoint: the whole state, in memory order, so that a restart repeats
 !> the uninterrupted run bit for bit. Written to a temporary file, then
-!> renamed over the old checkpoint.
+!> renamed over the old checkpoint. On several ranks each rank writes its
+!> particles at its offset, rank after rank, with the count of every rank
+!> (/rank_counts) and the slab edges (/slab_edges): a restart on the same
+!> number of ranks takes up the same slabs, in the same memory order; any
+!> other number of ranks can restart it too (each rank keeps its slab).
 module io_checkpoint
    use kinds, only: rp
    use particles, only: particles_t, particles_alloc
    use run_state, only: state_t
    use body_dynamics, only: body_t
-   use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_read, h5_attr_write, &
-                      h5_attr_read, h5_length, file_rename
+   use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_write_part, h5_read, &
+                      h5_attr_write, h5_attr_read, h5_length, h5_exists, file_rename
+   use comm, only: comm_rank, comm_size, comm_exscan, comm_allgather
+   use decomp, only: decomp_edges
    implicit none
    private
    public :: checkpoint_write, checkpoint_read
@@ -23,24 +29,29 @@ contains
       real(rp), allocatable :: bs(:, :)
       integer(hid_t) :: f
       character(len=:), allocatable :: path
-      integer :: n
-      n = p%n
+      integer :: n, off, tot, counts(comm_size())
+      n = p%n_own
+      call comm_allgather(n, counts)
+      off = comm_exscan(n)
+      tot = sum(counts)
       path = trim(out_dir)//'/checkpoint.h5'
       f = h5_create(path//'.tmp')
-      call h5_write(f, 'x', p%x(:, 1:n))
-      call h5_write(f, 'v', p%v(:, 1:n))
-      call h5_write(f, 'rho', p%rho(1:n))
-      call h5_write(f, 'p', p%p(1:n))
-      call h5_write(f, 'mass', p%mass(1:n))
-      call h5_write(f, 'nrm', p%nrm(:, 1:n))
-      call h5_write(f, 'xb', p%xb(:, 1:n))
-      call h5_write(f, 'nb', p%nb(:, 1:n))
-      call h5_write(f, 'surf', p%surf(1:n))
-      call h5_write(f, 'vm1', p%vm1(:, 1:n))
-      call h5_write(f, 'rhom1', p%rhom1(1:n))
-      call h5_write(f, 'kind', p%kind(1:n))
-      call h5_write(f, 'body', p%body(1:n))
-      call h5_write(f, 'id', p%id(1:n))
+      call h5_write_part(f, 'x', p%x(:, 1:n), off, tot)
+      call h5_write_part(f, 'v', p%v(:, 1:n), off, tot)
+      call h5_write_part(f, 'rho', p%rho(1:n), off, tot)
+      call h5_write_part(f, 'p', p%p(1:n), off, tot)
+      call h5_write_part(f, 'mass', p%mass(1:n), off, tot)
+      call h5_write_part(f, 'nrm', p%nrm(:, 1:n), off, tot)
+      call h5_write_part(f, 'xb', p%xb(:, 1:n), off, tot)
+      call h5_write_part(f, 'nb', p%nb(:, 1:n), off, tot)
+      call h5_write_part(f, 'surf', p%surf(1:n), off, tot)
+      call h5_write_part(f, 'vm1', p%vm1(:, 1:n), off, tot)
+      call h5_write_part(f, 'rhom1', p%rhom1(1:n), off, tot)
+      call h5_write_part(f, 'kind', p%kind(1:n), off, tot)
+      call h5_write_part(f, 'body', p%body(1:n), off, tot)
+      call h5_write_part(f, 'id', p%id(1:n), off, tot)
+      call h5_write(f, 'rank_counts', counts)
+      call h5_write(f, 'slab_edges', decomp_edges())
       call h5_attr_write(f, 'n_id', p%n_id)
       call h5_attr_write(f, 't', st%t)
       call h5_attr_write(f, 'dt', st%dt)
@@ -62,21 +73,38 @@ contains
          call h5_write(f, 'bodies', bs)
       end if
       call h5_close(f)
-      call file_rename(path//'.tmp', path)
+      if (comm_rank() == 0) call file_rename(path//'.tmp', path)
    end subroutine checkpoint_write
 
-   subroutine checkpoint_read(out_dir, p, st, bodies)
+   !> The whole checkpoint, on every rank; counts and edges are the writer's
+   !> particles per rank and slab edges (one rank, no edges, for a
+   !> checkpoint of a serial build).
+   subroutine checkpoint_read(out_dir, p, st, bodies, counts, edges)
       character(len=*), intent(in) :: out_dir
       type(particles_t), intent(inout) :: p
       type(state_t), intent(inout) :: st
       type(body_t), intent(inout) :: bodies(:)
+      integer, allocatable, intent(out) :: counts(:), edges(:)
       integer(hid_t) :: f
-      integer :: n, b
+      integer :: n, b, nr
+      logical :: parts
       real(rp), allocatable :: bs(:, :)
       f = h5_open_read(trim(out_dir)//'/checkpoint.h5')
       n = h5_length(f, 'rho')
       call particles_alloc(p, n)
       p%n = n
+      p%n_own = n
+      parts = h5_exists(f, 'rank_counts')
+      if (parts) parts = h5_exists(f, 'slab_edges')
+      if (parts) then
+         nr = h5_length(f, 'rank_counts')
+         allocate (counts(nr), edges(nr + 1))
+         call h5_read(f, 'rank_counts', counts)
+         call h5_read(f, 'slab_edges', edges)
+      else
+         allocate (counts(1), edges(0))
+         counts(1) = n
+      end if
       call h5_read(f, 'x', p%x)
       call h5_read(f, 'v', p%v)
       call h5_read(f, 'rho', p%rho)

@@ -1,5 +1,10 @@
 !> Thin helpers over the HDF5 Fortran API: whole-array datasets and scalar
 !> attributes, with every error turned into a fatal message naming the file.
+!> On several ranks a file is created by all of them together (parallel
+!> HDF5, the MPI-IO driver): h5_write_part writes each rank's particles at
+!> its offset of one dataset, h5_write a small array rank 0 holds like the
+!> others, and attributes are written by all ranks with the same values.
+!> Files are read by each rank on its own.
 module io_hdf5
    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
    use kinds, only: rp
@@ -8,12 +13,15 @@ module io_hdf5
                    h5dwrite_f, h5dread_f, h5dget_space_f, h5sget_simple_extent_dims_f, h5acreate_f, &
                    h5aopen_f, h5aclose_f, h5awrite_f, h5aread_f, h5tcopy_f, h5tset_size_f, h5tclose_f, &
                    h5aexists_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5S_SCALAR_F, H5T_NATIVE_DOUBLE, &
-                   H5T_NATIVE_INTEGER, H5T_FORTRAN_S1
+                   H5T_NATIVE_INTEGER, H5T_FORTRAN_S1, h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, &
+                   h5pset_dxpl_mpio_f, h5sselect_hyperslab_f, h5sselect_none_f, h5lexists_f, H5P_FILE_ACCESS_F, &
+                   H5P_DATASET_XFER_F, H5FD_MPIO_COLLECTIVE_F, H5S_SELECT_SET_F, H5P_DEFAULT_F
    use errors, only: fatal
+   use comm, only: comm_size, comm_rank, comm_handle, comm_info_handle
    implicit none
    private
    public :: hid_t, h5_start, h5_stop, h5_create, h5_open_read, h5_close, h5_write, h5_read, &
-             h5_attr_write, h5_attr_read, h5_length, file_rename
+             h5_attr_write, h5_attr_read, h5_length, h5_exists, h5_write_part, file_rename
 
    interface h5_write
       module procedure write_r1, write_r2, write_i1
@@ -21,6 +29,10 @@ module io_hdf5
    interface h5_read
       module procedure read_r1, read_r2, read_i1
    end interface h5_read
+   !> This rank's part of a dataset that all ranks write together
+   interface h5_write_part
+      module procedure part_r1, part_r2, part_i1
+   end interface h5_write_part
    interface h5_attr_write
       module procedure attr_write_r, attr_write_i, attr_write_s
    end interface h5_attr_write
@@ -39,6 +51,7 @@ module io_hdf5
    end interface
 
    character(len=:), allocatable :: current   ! file being written, for messages
+   integer(hid_t) :: xfer = 0                 ! transfer properties of the writes
 
 contains
 
@@ -52,10 +65,17 @@ contains
       integer :: err
       call h5open_f(err)
       if (err < 0) call fatal('HDF5: cannot initialise the library')
+      xfer = H5P_DEFAULT_F
+      if (comm_size() > 1) then
+         call h5pcreate_f(H5P_DATASET_XFER_F, xfer, err)
+         call h5pset_dxpl_mpio_f(xfer, H5FD_MPIO_COLLECTIVE_F, err)
+         if (err < 0) call fatal('HDF5: no collective MPI-IO transfers (is this HDF5 built for MPI?)')
+      end if
    end subroutine h5_start
 
    subroutine h5_stop()
       integer :: err
+      if (comm_size() > 1) call h5pclose_f(xfer, err)
       call h5close_f(err)
    end subroutine h5_stop
 
@@ -67,13 +87,135 @@ contains
       end if
    end subroutine file_rename
 
+   !> A new file; on several ranks every rank calls this, together.
    integer(hid_t) function h5_create(path) result(f)
       character(len=*), intent(in) :: path
       integer :: err
+      integer(hid_t) :: fapl
       current = trim(path)
-      call h5fcreate_f(trim(path), H5F_ACC_TRUNC_F, f, err)
+      if (comm_size() > 1) then
+         call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
+         call h5pset_fapl_mpio_f(fapl, comm_handle(), comm_info_handle(), err)
+         call check(err, 'MPI-IO access')
+         call h5fcreate_f(trim(path), H5F_ACC_TRUNC_F, f, err, access_prp=fapl)
+         call h5pclose_f(fapl, err)
+      else
+         call h5fcreate_f(trim(path), H5F_ACC_TRUNC_F, f, err)
+      end if
       call check(err, 'create')
    end function h5_create
+
+   !> Whether a dataset of that name exists.
+   logical function h5_exists(f, name) result(yes)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      integer :: err
+      call h5lexists_f(f, name, yes, err)
+      if (err < 0) yes = .false.
+   end function h5_exists
+
+   !> Dataset of total elements along the last dimension (rows values each,
+   !> rows = 0 for a one-dimensional one); this rank's n from offset.
+   !> Returns the dataset, the file and memory selections.
+   subroutine part_open(f, name, htype, rows, n, offset, total, d, fs, ms)
+      integer(hid_t), intent(in) :: f, htype
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: rows, n, offset, total
+      integer(hid_t), intent(out) :: d, fs, ms
+      integer(hsize_t) :: dims(2), start(2), cnt(2)
+      integer :: err, r
+      r = merge(1, 2, rows == 0)
+      if (r == 1) then
+         dims(1) = int(total, hsize_t)
+         start(1) = int(offset, hsize_t)
+         cnt(1) = int(max(n, 1), hsize_t)
+      else
+         dims = [int(rows, hsize_t), int(total, hsize_t)]
+         start = [0_hsize_t, int(offset, hsize_t)]
+         cnt = [int(rows, hsize_t), int(max(n, 1), hsize_t)]
+      end if
+      call h5screate_simple_f(r, dims(1:r), fs, err); call check(err, 'dataspace '//name)
+      call h5dcreate_f(f, name, htype, fs, d, err); call check(err, 'dataset '//name)
+      call h5screate_simple_f(r, cnt(1:r), ms, err); call check(err, 'memory space '//name)
+      if (n > 0) then
+         call h5sselect_hyperslab_f(fs, H5S_SELECT_SET_F, start(1:r), cnt(1:r), err)
+         call check(err, 'select '//name)
+      else
+         call h5sselect_none_f(fs, err)
+         call h5sselect_none_f(ms, err)
+      end if
+   end subroutine part_open
+
+   subroutine part_close(d, fs, ms)
+      integer(hid_t), intent(in) :: d, fs, ms
+      integer :: err
+      call h5sclose_f(ms, err)
+      call h5sclose_f(fs, err)
+      call h5dclose_f(d, err)
+   end subroutine part_close
+
+   subroutine part_r1(f, name, a, offset, total)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      real(rp), intent(in) :: a(:)
+      integer, intent(in) :: offset, total
+      integer(hid_t) :: d, fs, ms
+      integer(hsize_t) :: dims(1)
+      integer :: err
+      real(rp) :: none(1)
+      call part_open(f, name, H5T_NATIVE_DOUBLE, 0, size(a), offset, total, d, fs, ms)
+      dims = max(shape(a, kind=hsize_t), 1_hsize_t)
+      if (size(a) > 0) then
+         call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err, mem_space_id=ms, file_space_id=fs, xfer_prp=xfer)
+      else
+         none = 0.0_rp
+         call h5dwrite_f(d, H5T_NATIVE_DOUBLE, none, dims, err, mem_space_id=ms, file_space_id=fs, xfer_prp=xfer)
+      end if
+      call check(err, 'write '//name)
+      call part_close(d, fs, ms)
+   end subroutine part_r1
+
+   subroutine part_r2(f, name, a, offset, total)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      real(rp), intent(in) :: a(:, :)
+      integer, intent(in) :: offset, total
+      integer(hid_t) :: d, fs, ms
+      integer(hsize_t) :: dims(2)
+      integer :: err
+      real(rp) :: none(size(a, 1), 1)
+      call part_open(f, name, H5T_NATIVE_DOUBLE, size(a, 1), size(a, 2), offset, total, d, fs, ms)
+      dims = max(shape(a, kind=hsize_t), 1_hsize_t)
+      if (size(a) > 0) then
+         call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err, mem_space_id=ms, file_space_id=fs, xfer_prp=xfer)
+      else
+         none = 0.0_rp
+         call h5dwrite_f(d, H5T_NATIVE_DOUBLE, none, dims, err, mem_space_id=ms, file_space_id=fs, xfer_prp=xfer)
+      end if
+      call check(err, 'write '//name)
+      call part_close(d, fs, ms)
+   end subroutine part_r2
+
+   subroutine part_i1(f, name, a, offset, total)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: a(:)
+      integer, intent(in) :: offset, total
+      integer(hid_t) :: d, fs, ms
+      integer(hsize_t) :: dims(1)
+      integer :: err
+      integer :: none(1)
+      call part_open(f, name, H5T_NATIVE_INTEGER, 0, size(a), offset, total, d, fs, ms)
+      dims = max(shape(a, kind=hsize_t), 1_hsize_t)
+      if (size(a) > 0) then
+         call h5dwrite_f(d, H5T_NATIVE_INTEGER, a, dims, err, mem_space_id=ms, file_space_id=fs, xfer_prp=xfer)
+      else
+         none = 0
+         call h5dwrite_f(d, H5T_NATIVE_INTEGER, none, dims, err, mem_space_id=ms, file_space_id=fs, xfer_prp=xfer)
+      end if
+      call check(err, 'write '//name)
+      call part_close(d, fs, ms)
+   end subroutine part_i1
 
    integer(hid_t) function h5_open_read(path) result(f)
       character(len=*), intent(in) :: path
@@ -103,7 +245,14 @@ contains
       dims = shape(a, kind=hsize_t)
       call h5screate_simple_f(1, dims, s, err); call check(err, 'dataspace '//name)
       call h5dcreate_f(f, name, H5T_NATIVE_DOUBLE, s, d, err); call check(err, 'dataset '//name)
-      call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err); call check(err, 'write '//name)
+      if (comm_size() > 1) then
+         ! one writer: every rank holds the same array
+         if (comm_rank() /= 0) call h5sselect_none_f(s, err)
+         call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err, file_space_id=s, mem_space_id=s, xfer_prp=xfer)
+      else
+         call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err)
+      end if
+      call check(err, 'write '//name)
       call h5dclose_f(d, err)
       call h5sclose_f(s, err)
    end subroutine write_r1
@@ -118,7 +267,14 @@ contains
       dims = shape(a, kind=hsize_t)
       call h5screate_simple_f(2, dims, s, err); call check(err, 'dataspace '//name)
       call h5dcreate_f(f, name, H5T_NATIVE_DOUBLE, s, d, err); call check(err, 'dataset '//name)
-      call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err); call check(err, 'write '//name)
+      if (comm_size() > 1) then
+         ! one writer: every rank holds the same array
+         if (comm_rank() /= 0) call h5sselect_none_f(s, err)
+         call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err, file_space_id=s, mem_space_id=s, xfer_prp=xfer)
+      else
+         call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err)
+      end if
+      call check(err, 'write '//name)
       call h5dclose_f(d, err)
       call h5sclose_f(s, err)
    end subroutine write_r2
@@ -133,7 +289,14 @@ contains
       dims = shape(a, kind=hsize_t)
       call h5screate_simple_f(1, dims, s, err); call check(err, 'dataspace '//name)
       call h5dcreate_f(f, name, H5T_NATIVE_INTEGER, s, d, err); call check(err, 'dataset '//name)
-      call h5dwrite_f(d, H5T_NATIVE_INTEGER, a, dims, err); call check(err, 'write '//name)
+      if (comm_size() > 1) then
+         ! one writer: every rank holds the same array
+         if (comm_rank() /= 0) call h5sselect_none_f(s, err)
+         call h5dwrite_f(d, H5T_NATIVE_INTEGER, a, dims, err, file_space_id=s, mem_space_id=s, xfer_prp=xfer)
+      else
+         call h5dwrite_f(d, H5T_NATIVE_INTEGER, a, dims, err)
+      end if
+      call check(err, 'write '//name)
       call h5dclose_f(d, err)
       call h5sclose_f(s, err)
    end subroutine write_i1

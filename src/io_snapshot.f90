@@ -1,18 +1,21 @@
-!> Particle snapshots (HDF5, in global id order) and the XDMF index that
-!> lets ParaView open the whole series.
+!> Particle snapshots (HDF5) and the XDMF index that lets ParaView open the
+!> whole series. Each rank writes its particles in id order at its offset
+!> of every dataset, rank after rank: on one rank the file is in global id
+!> order; on several, readers order by the /id dataset (post/io.py does).
 module io_snapshot
    use kinds, only: rp
    use constants, only: msg_len
    use particles, only: particles_t
    use params, only: params_t
-   use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_attr_write, h5_attr_read, &
-                      h5_length, file_rename
+   use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_write_part, h5_attr_write, &
+                      h5_attr_read, h5_length, file_rename
+   use comm, only: comm_rank, comm_exscan, comm_sum
    use io_files, only: snap_name, file_exists
    use errors, only: fatal
    use body_dynamics, only: body_t
    implicit none
    private
-   public :: snapshot_write, snapshot_index_rebuild
+   public :: snapshot_write, snapshot_index_rebuild, order_by_id
 
    ! what the XDMF index lists
    integer :: nlist = 0
@@ -31,39 +34,32 @@ contains
       character(len=*), intent(in) :: case_text
       type(body_t), intent(in) :: bodies(:)
       integer(hid_t) :: f
-      integer, allocatable :: ord(:), slot(:), conn(:)
-      integer :: i, n, m
-      n = p%n
-      ! order by global id: slot(id) = particle
-      allocate (slot(p%n_id), ord(n), conn(n))
-      slot = 0
+      integer, allocatable :: ord(:), conn(:)
+      integer :: i, n, off, tot(1)
+      n = p%n_own
+      allocate (ord(n))
+      call order_by_id(p%id(1:n), ord)
+      off = comm_exscan(n)
+      tot = n
+      call comm_sum(tot)
+      allocate (conn(n))
       do i = 1, n
-         slot(p%id(i)) = i
-      end do
-      m = 0
-      do i = 1, p%n_id
-         if (slot(i) > 0) then
-            m = m + 1
-            ord(m) = slot(i)
-         end if
-      end do
-      do i = 1, n
-         conn(i) = i - 1
+         conn(i) = off + i - 1
       end do
       f = h5_create(snap_name(out_dir, k))
-      call h5_write(f, 'position', p%x(:, ord))
-      call h5_write(f, 'velocity', p%v(:, ord))
-      call h5_write(f, 'density', p%rho(ord))
-      call h5_write(f, 'pressure', p%p(ord))
-      call h5_write(f, 'mass', p%mass(ord))
-      call h5_write(f, 'kind', p%kind(ord))
-      call h5_write(f, 'body', p%body(ord))
-      call h5_write(f, 'id', p%id(ord))
-      call h5_write(f, 'connectivity', conn)
+      call h5_write_part(f, 'position', p%x(:, ord), off, tot(1))
+      call h5_write_part(f, 'velocity', p%v(:, ord), off, tot(1))
+      call h5_write_part(f, 'density', p%rho(ord), off, tot(1))
+      call h5_write_part(f, 'pressure', p%p(ord), off, tot(1))
+      call h5_write_part(f, 'mass', p%mass(ord), off, tot(1))
+      call h5_write_part(f, 'kind', p%kind(ord), off, tot(1))
+      call h5_write_part(f, 'body', p%body(ord), off, tot(1))
+      call h5_write_part(f, 'id', p%id(ord), off, tot(1))
+      call h5_write_part(f, 'connectivity', conn, off, tot(1))
       call h5_attr_write(f, 'time', t)
       call h5_attr_write(f, 'dt', dt)
       call h5_attr_write(f, 'step', istep)
-      call h5_attr_write(f, 'n_particles', n)
+      call h5_attr_write(f, 'n_particles', tot(1))
       call h5_attr_write(f, 'dp', prm%dp)
       call h5_attr_write(f, 'h', prm%h)
       call h5_attr_write(f, 'rho0', prm%rho0)
@@ -73,9 +69,46 @@ contains
       call h5_attr_write(f, 'case_nml', case_text)
       if (size(bodies) > 0) call write_outlines(f, bodies)
       call h5_close(f)
-      call list_set(k, t, n)
-      call xdmf_write(out_dir)
+      call list_set(k, t, tot(1))
+      if (comm_rank() == 0) call xdmf_write(out_dir)
    end subroutine snapshot_write
+
+   !> The permutation that sorts ids ascending (a bottom-up merge sort).
+   subroutine order_by_id(id, ord)
+      integer, intent(in) :: id(:)
+      integer, intent(out) :: ord(:)
+      integer, allocatable :: tmp(:)
+      integer :: n, w, lo, mid, hi, i, j, k
+      n = size(id)
+      allocate (tmp(n))
+      do i = 1, n
+         ord(i) = i
+      end do
+      w = 1
+      do while (w < n)
+         lo = 1
+         do while (lo <= n)
+            mid = min(lo + w - 1, n)
+            hi = min(lo + 2*w - 1, n)
+            i = lo; j = mid + 1; k = lo
+            do while (k <= hi)
+               if (j > hi) then
+                  tmp(k) = ord(i); i = i + 1
+               else if (i > mid) then
+                  tmp(k) = ord(j); j = j + 1
+               else if (id(ord(j)) < id(ord(i))) then
+                  tmp(k) = ord(j); j = j + 1
+               else
+                  tmp(k) = ord(i); i = i + 1
+               end if
+               k = k + 1
+            end do
+            lo = lo + 2*w
+         end do
+         ord = tmp
+         w = 2*w
+      end do
+   end subroutine order_by_id
 
    !> Body outlines at their current pose: /body_outline (vertices of all
    !> bodies one after the other), /body_outline_start (0-based offset of each
@@ -128,7 +161,8 @@ contains
       nlist = k + 1
    end subroutine list_set
 
-   !> After a restart: list the snapshots 0 .. nsnap-1 already on disk.
+   !> After a restart: list the snapshots 0 .. nsnap-1 already on disk (rank 0
+   !> writes the index).
    subroutine snapshot_index_rebuild(out_dir, nsnap)
       character(len=*), intent(in) :: out_dir
       integer, intent(in) :: nsnap
@@ -136,6 +170,7 @@ contains
       integer(hid_t) :: f
       real(rp) :: t
       nlist = 0
+      if (comm_rank() /= 0) return
       do k = 0, nsnap - 1
          if (.not. file_exists(snap_name(out_dir, k))) call fatal('restart: '//snap_name(out_dir, k)// &
                                                                   ' is missing from the run being continued')

@@ -8,6 +8,7 @@ module kernel_correction
    use kernel, only: kernel_cubic
    use grid, only: grid_t
    use particles, only: particles_t
+   use comm_halo, only: comm_halo_forward, comm_halo_reverse
    implicit none
    private
    public :: kgc_matrices, shepard_filter
@@ -42,6 +43,8 @@ contains
 #include "kgc_pairs.inc"
 #undef KFAC
       end if
+      ! the moments of the halo copies belong to the next rank's particles
+      call comm_halo_reverse(lm, p%n_own)
       do i = 1, p%n
          a11 = lm(1, i); a12 = lm(2, i); a22 = lm(3, i)
          det = a11*a22 - a12*a12
@@ -56,6 +59,7 @@ contains
             lm(:, i) = [1.0_rp, 0.0_rp, 1.0_rp]
          end if
       end do
+      call comm_halo_forward(lm, p%n_own)
    end subroutine kgc_matrices
 
    !> Shepard filter: rho_i = sum_j m_j W_ij / sum_j V_j W_ij over fluid
@@ -84,8 +88,11 @@ contains
 #include "shepard_pairs.inc"
 #undef KFAC
       end if
-      do i = 1, p%n
+      call comm_halo_reverse(msum, p%n_own)
+      call comm_halo_reverse(wsum, p%n_own)
+      do i = 1, p%n_own
          if (p%kind(i) == kind_fluid) p%rho(i) = msum(i)/wsum(i)
       end do
+      call comm_halo_forward(p%rho, p%n_own)
    end subroutine shepard_filter
 end module kernel_correction

@@ -7,7 +7,8 @@ module particles
    public :: particles_t, particles_alloc, particles_grow, particles_permute, particles_count_kind
 
    type :: particles_t
-      integer :: n = 0                       !< particles in use
+      integer :: n = 0                       !< particles in use: owned, then the halo
+      integer :: n_own = 0                   !< particles this rank owns (1 .. n_own); n on one rank
       integer :: n_id = 0                    !< largest id handed out
       real(rp), allocatable :: x(:, :)       !< position [m]
       real(rp), allocatable :: v(:, :)       !< velocity [m/s]
@@ -40,6 +41,7 @@ contains
                 p%nrm(ndim, nmax), p%xb(ndim, nmax), p%nb(ndim, nmax), p%vm1(ndim, nmax), p%rhom1(nmax), &
                 p%kind(nmax), p%body(nmax), p%id(nmax), p%surf(nmax))
       p%n = 0
+      p%n_own = 0
    end subroutine particles_alloc
 
    !> Make room for at least nmore further particles, keeping the contents.
@@ -61,6 +63,7 @@ contains
          q%nb(:, 1:n) = p%nb(:, 1:n); q%surf(1:n) = p%surf(1:n)
       end if
       q%n = n
+      q%n_own = p%n_own
       q%n_id = p%n_id
       call move_alloc(q%x, p%x); call move_alloc(q%v, p%v); call move_alloc(q%rho, p%rho)
       call move_alloc(q%p, p%p); call move_alloc(q%mass, p%mass); call move_alloc(q%nrm, p%nrm)
@@ -153,9 +156,10 @@ contains
       end subroutine permute_int
    end subroutine particles_permute
 
+   !> Owned particles of kind k on this rank.
    integer function particles_count_kind(p, k) result(c)
       type(particles_t), intent(in) :: p
       integer, intent(in) :: k
-      c = count(p%kind(1:p%n) == k)
+      c = count(p%kind(1:p%n_own) == k)
    end function particles_count_kind
 end module particles

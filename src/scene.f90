@@ -67,6 +67,7 @@ contains
          p%p(i) = 0.0_rp
       end do
       p%n_id = p%n
+      p%n_own = p%n
       if (p%n == 0) call fatal(trim(c%file)//': the case makes no particles (add &box, &polygon or &slope groups)', 2)
    end subroutine scene_build
 

@@ -1,19 +1,27 @@
 !> The run: set up (or restart), step until the end time, write output,
 !> report. The data flows one way: grid -> pair loop -> integration -> output.
+!> On several ranks each rank owns the particles of one slab of the domain
+!> (decomp): every rank builds (or reads) the whole set, keeps its slab,
+!> and every step sends the particles that crossed an edge to their new
+!> owner and builds its halo after the sort (comm_halo); every few steps
+!> the slab edges move to even out the particle counts.
 module solver
    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use kinds, only: rp, i8
    use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_name
    use input, only: case_cfg, write_case
    use input_check, only: int_str, real_str
-   use particles, only: particles_t, particles_count_kind
+   use particles, only: particles_t, particles_count_kind, particles_permute
    use params, only: params_t, params_init, visc_artificial, diff_none, kgc_gradient, kgc_shepard, &
                      integ_verlet
    use scene, only: scene_build, scene_bodies
    use body_dynamics, only: body_t, bodies_place, bodies_energy
    use contact, only: contact_t, contact_init
    use io_bodies, only: bodies_csv_open, bodies_csv_row, bodies_csv_close
-   use grid, only: grid_t, grid_init, grid_sort
+   use grid, only: grid_t, grid_init, grid_sort, grid_first_column_end, grid_add_halo
+   use decomp, only: decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, decomp_lo, &
+                     decomp_hi
+   use comm_halo, only: comm_halo_migrate, comm_halo_build, comm_halo_redistribute
    use eos, only: eos_update
    use fluid_forces, only: forces_work_t, forces_init
    use kernel_correction, only: shepard_filter
@@ -26,8 +34,8 @@ module solver
    use io_checkpoint, only: checkpoint_write, checkpoint_read
    use logger, only: log_open, log_close, log_line, log_progress
    use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup
-   use comm, only: comm_wtime, comm_size
-   use errors, only: fatal
+   use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max
+   use errors, only: fatal, input_error
    implicit none
    private
    public :: solver_run
@@ -43,6 +51,9 @@ module solver
    character(len=:), allocatable :: out, case_text
    logical, allocatable :: drop(:)
    real(rp), allocatable :: scratch1(:), scratch2(:)
+   integer :: n_global = 0                   !< particles on all ranks
+   integer :: n_kind(4) = 0                  !< particles of each kind at the start, all ranks
+   logical :: moving = .false.               !< the case has moving walls
 
 contains
 
@@ -50,15 +61,18 @@ contains
       type(case_cfg), intent(in) :: c
       real(rp) :: dt_floor, wall_last
       logical :: done, written
+      integer, allocatable :: counts(:), edges(:)
       cfg = c
       out = trim(c%run%out_dir)
       call timer_start(t_setup)
-      call outdir_prepare(c%file, out, c%run%overwrite, c%run%restart)
+      ! one rank prepares the folder; the others wait for it (or for its abort)
+      if (comm_rank() == 0) call outdir_prepare(c%file, out, c%run%overwrite, c%run%restart)
+      call comm_barrier()
       call log_open(out//'/run.log', c%run%restart)
       call h5_start()
       if (c%run%restart) then
          call scene_bodies(c, bodies)
-         call checkpoint_read(out, p, st, bodies)
+         call checkpoint_read(out, p, st, bodies, counts, edges)
          call params_init(c, st%y_surface - st%h_swl, st%y_surface, prm)
          call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//out// &
                        '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
@@ -70,18 +84,27 @@ contains
          st%n_fluid0 = particles_count_kind(p, kind_fluid)
          st%h_swl = prm%h_swl
          st%y_surface = prm%y_surface
+         allocate (counts(1), edges(0))
+         counts = p%n
       end if
-      call write_case(out//'/case.nml', c)
+      ! every rank holds the whole set until decompose: count it now
+      n_global = p%n
+      n_kind = [particles_count_kind(p, kind_fluid), particles_count_kind(p, kind_fixed), &
+                particles_count_kind(p, kind_moving), particles_count_kind(p, kind_floating)]
+      moving = n_kind(3) > 0
+      if (comm_rank() == 0) call write_case(out//'/case.nml', c)
+      call comm_barrier()
       case_text = file_text(out//'/case.nml')
-      call grid_init(g, c%domain%xmin, c%domain%xmax, c%domain%ymin, c%domain%ymax, prm%h)
+      call decompose(counts, edges)
       call forces_init(prm)
       if (size(bodies) > 0) then
          call contact_init(c%contact, prm, c%fluid%coef, ct)
-         call bodies_csv_open(out, c%run%restart, st%t)
+         if (comm_rank() == 0) call bodies_csv_open(out, c%run%restart, st%t)
       end if
       call banner()
       allocate (drop(size(p%rho)), scratch1(size(p%rho)), scratch2(size(p%rho)))
-      call energy_open(out, c%run%restart, st%istep)
+      ! text files are rank 0's
+      if (comm_rank() == 0) call energy_open(out, c%run%restart, st%istep)
       if (c%run%restart) then
          call snapshot_index_rebuild(out, st%isnap)
       else
@@ -101,16 +124,26 @@ contains
       written = .true.
       do while (.not. done)
          call timer_start(t_grid)
+         ! (a restart on as many ranks balances at the same steps as the run it continues)
+         if (comm_size() > 1 .and. cfg%run%balance_every > 0 .and. st%istep > 0) then
+            if (mod(st%istep, cfg%run%balance_every) == 0) call rebalance()
+         end if
          call remove_particles()
+         call comm_halo_migrate(p, drop)
          call grid_sort(g, p, drop, cells=size(bodies) > 0)
+         if (comm_size() > 1) then
+            call comm_halo_build(p, grid_first_column_end(g))
+            if (.not. grid_add_halo(g, p)) call fatal('the halo arrived out of cell order (internal error)')
+            call ensure_scratch()
+         end if
          if (prm%kgc == kgc_shepard .and. mod(st%istep + 1, prm%shepard_every) == 0) then
             call shepard_filter(prm, g, p, scratch1, scratch2)
          end if
          call timer_stop(t_grid)
-         call step_advance(prm, g, p, w, cfg%objs, any_moving(), bodies, ct, st%t, st%istep + 1, st%dt)
+         call step_advance(prm, g, p, w, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt)
          st%t = st%t + st%dt
          st%istep = st%istep + 1
-         st%particle_steps = st%particle_steps + p%n
+         st%particle_steps = st%particle_steps + n_global
          call check_state(dt_floor)
          done = finished()
          written = .false.
@@ -143,14 +176,95 @@ contains
       call log_close()
    end subroutine solver_run
 
-   logical function any_moving()
-      logical, save :: known = .false., has = .false.
-      if (.not. known) then
-         has = any(p%kind(1:p%n) == kind_moving)
-         known = .true.
+   !> Split the whole set among the ranks: slab edges from the particle
+   !> count of every cell column (or, restarting on as many ranks, the edges
+   !> of the run continued, and its memory order), and each rank keeps its
+   !> own particles. Sets up the grid of this rank's slab.
+   subroutine decompose(counts, edges)
+      integer, intent(in) :: counts(:), edges(:)
+      integer, allocatable :: hist(:), perm(:)
+      integer :: nr, me, i, k, r, first, nkeep
+      logical :: same, moved
+      nr = comm_size()
+      me = comm_rank()
+      call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h)
+      call decomp_init(g%x0, g%cs, g%ncx_all, nr, me)
+      if (nr == 1) return
+      if (nr > g%ncx_all) call input_error(cfg%file, 'domain', 'xmax', 'the domain is '//int_str(g%ncx_all)// &
+         ' cells of 2h wide, too few for '//int_str(nr)//' ranks (a rank needs one at least): run on at most '// &
+         int_str(g%ncx_all)//' ranks')
+      same = size(counts) == nr .and. size(edges) == nr + 1
+      if (same) same = edges(nr + 1) == g%ncx_all
+      if (same) then
+         call decomp_set_edges(edges)
+      else
+         allocate (hist(0:g%ncx_all - 1))
+         hist = 0
+         do i = 1, p%n
+            k = decomp_column(p%x(1, i))
+            hist(k) = hist(k) + 1
+         end do
+         moved = decomp_balance(hist)
       end if
-      any_moving = has
-   end function any_moving
+      ! the particles of this slab; restarting on as many ranks, this rank's
+      ! part of the file first, then the others' (as migration appends them)
+      allocate (perm(p%n))
+      nkeep = 0
+      if (same) then
+         first = sum(counts(1:me))
+         do i = first + 1, first + counts(me + 1)
+            call keep(i)
+         end do
+         do r = 0, nr - 1
+            if (r == me) cycle
+            first = sum(counts(1:r))
+            do i = first + 1, first + counts(r + 1)
+               call keep(i)
+            end do
+         end do
+      else
+         do i = 1, p%n
+            call keep(i)
+         end do
+      end if
+      call particles_permute(p, perm, nkeep)
+      p%n_own = p%n
+      call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h, &
+                     decomp_lo(), decomp_hi())
+   contains
+      subroutine keep(j)
+         integer, intent(in) :: j
+         if (decomp_owner(p%x(1, j)) /= me) return
+         nkeep = nkeep + 1
+         perm(nkeep) = j
+      end subroutine keep
+   end subroutine decompose
+
+   !> Move the slab edges so that every rank owns about as many particles,
+   !> and send the particles to their new owners.
+   subroutine rebalance()
+      integer, allocatable :: hist(:)
+      integer :: i, k
+      allocate (hist(0:g%ncx_all - 1))
+      hist = 0
+      do i = 1, p%n_own
+         k = decomp_column(p%x(1, i))
+         hist(k) = hist(k) + 1
+      end do
+      call comm_sum(hist)
+      if (.not. decomp_balance(hist)) return
+      call comm_halo_redistribute(p)
+      call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h, &
+                     decomp_lo(), decomp_hi())
+      call ensure_scratch()
+   end subroutine rebalance
+
+   !> Per-particle scratch arrays as large as the particle store.
+   subroutine ensure_scratch()
+      if (size(scratch1) >= size(p%rho)) return
+      deallocate (scratch1, scratch2)
+      allocate (scratch1(size(p%rho)), scratch2(size(p%rho)))
+   end subroutine ensure_scratch
 
    logical function finished()
       finished = st%t >= cfg%run%t_end*(1.0_rp - 1.0e-12_rp)
@@ -158,13 +272,18 @@ contains
    end function finished
 
    !> Fluid particles that left the domain or reached a non-physical density
-   !> are taken out, counted and reported; too many stop the run.
+   !> are taken out, counted (over all ranks) and reported; too many stop the run.
    subroutine remove_particles()
-      integer :: i, nd, nr
+      integer :: i, nd, nr, cnt(2)
       real(rp) :: x, y
+      logical, allocatable :: grown(:)
+      if (size(drop) < size(p%rho)) then
+         allocate (grown(size(p%rho)))
+         call move_alloc(grown, drop)
+      end if
       nd = 0
       nr = 0
-      do i = 1, p%n
+      do i = 1, p%n_own
          drop(i) = .false.
          if (p%kind(i) /= kind_fluid) cycle
          x = p%x(1, i)
@@ -177,7 +296,12 @@ contains
             nr = nr + 1
          end if
       end do
+      cnt = [nd, nr]
+      call comm_sum(cnt)
+      nd = cnt(1)
+      nr = cnt(2)
       if (nd + nr == 0) return
+      n_global = n_global - nd - nr
       st%lost_domain = st%lost_domain + nd
       st%lost_density = st%lost_density + nr
       call log_line('step '//int_str(st%istep)//', t = '//real_str(st%t)//' s: removed '//int_str(nd + nr)// &
@@ -191,12 +315,17 @@ contains
       end if
    end subroutine remove_particles
 
-   !> Stop on a NaN or a collapsed time step, leaving a last snapshot.
+   !> Stop on a NaN or a collapsed time step, leaving a last snapshot. A NaN
+   !> is reported by the lowest rank that holds one; the others wait for
+   !> its abort.
    subroutine check_state(dt_floor)
       real(rp), intent(in) :: dt_floor
-      integer :: i
+      integer :: i, bad
+      real(rp) :: who(1)
       character(len=:), allocatable :: what
-      do i = 1, p%n
+      what = ''
+      bad = 0
+      do i = 1, p%n_own
          if (ieee_is_nan(p%x(1, i)) .or. ieee_is_nan(p%x(2, i))) then
             what = 'position'
          else if (ieee_is_nan(p%v(1, i)) .or. ieee_is_nan(p%v(2, i))) then
@@ -206,11 +335,21 @@ contains
          else
             cycle
          end if
+         bad = i
+         exit
+      end do
+      who = -huge(1.0_rp)
+      if (bad > 0) who = -real(comm_rank(), rp)
+      call comm_max(who)
+      if (who(1) > -huge(1.0_rp)) then
          call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
-         call fatal('NaN in the '//what//' of particle id '//int_str(p%id(i))//' ('//kind_name(p%kind(i))// &
+         if (nint(-who(1)) /= comm_rank()) then
+            call comm_barrier()        ! never passed: the reporting rank aborts
+         end if
+         call fatal('NaN in the '//what//' of particle id '//int_str(p%id(bad))//' ('//kind_name(p%kind(bad))// &
                     ') at step '//int_str(st%istep)//', t = '//real_str(st%t)//' s; last state written to '// &
                     snap_name(out, st%isnap))
-      end do
+      end if
       if (st%dt < dt_floor) then
          call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
          call fatal('the time step fell to '//real_str(st%dt)//' s (below 1e-4 of the acoustic step) at step '// &
@@ -221,7 +360,7 @@ contains
 
    subroutine write_outputs(snap, energy)
       logical, intent(in) :: snap, energy
-      real(rp) :: ekin, epot, mass, bkin, bpot
+      real(rp) :: ekin, epot, mass, bkin, bpot, e(4), pen(1)
       integer :: i, nf
       real(rp) :: de
       call timer_start(t_output)
@@ -236,16 +375,20 @@ contains
          epot = 0.0_rp
          mass = 0.0_rp
          nf = 0
-         do i = 1, p%n
+         do i = 1, p%n_own
             if (p%kind(i) /= kind_fluid) cycle
             ekin = ekin + 0.5_rp*p%mass(i)*(p%v(1, i)**2 + p%v(2, i)**2)
             epot = epot + p%mass(i)*prm%g*p%x(2, i)
             mass = mass + p%mass(i)
             nf = nf + 1
          end do
+         e = [ekin, epot, mass, real(nf, rp)]
+         call comm_sum(e)
+         pen = ct%max_penetration
+         call comm_max(pen)
          call bodies_energy(bodies, bkin, bpot)
-         call energy_row(st%t, st%istep, ekin, epot, mass, nf, st%lost_domain + st%lost_density, bkin, bpot, &
-                         ct%max_penetration)
+         call energy_row(st%t, st%istep, e(1), e(2), e(3), nint(e(4)), st%lost_domain + st%lost_density, bkin, &
+                         bpot, pen(1))
          if (size(bodies) > 0) call bodies_csv_row(st%t, bodies)
          st%ienergy = st%ienergy + 1
          de = cfg%run%energy_interval
@@ -258,11 +401,11 @@ contains
    subroutine banner()
       character(len=:), allocatable :: fx
       call log_line("MBSPH case '"//trim(cfg%run%case_name)//"' from "//trim(cfg%file))
-      call log_line('  particles: '//int_str(p%n)//' ('//kind_name(kind_fluid)//' '// &
-                    int_str(particles_count_kind(p, kind_fluid))//', '//kind_name(kind_fixed)//' '// &
-                    int_str(particles_count_kind(p, kind_fixed))//', '//kind_name(kind_moving)//' '// &
-                    int_str(particles_count_kind(p, kind_moving))//', '//kind_name(kind_floating)//' '// &
-                    int_str(particles_count_kind(p, kind_floating))//')')
+      call log_line('  particles: '//int_str(n_global)//' ('//kind_name(kind_fluid)//' '// &
+                    int_str(n_kind(1))//', '//kind_name(kind_fixed)//' '// &
+                    int_str(n_kind(2))//', '//kind_name(kind_moving)//' '// &
+                    int_str(n_kind(3))//', '//kind_name(kind_floating)//' '// &
+                    int_str(n_kind(4))//')')
       call log_line('  dp = '//real_str(prm%dp)//' m, h = '//real_str(prm%h)//' m, c0 = '//real_str(prm%c0)// &
                     ' m/s, h_swl = '//real_str(prm%h_swl)//' m, rho0 = '//real_str(prm%rho0)// &
                     ' kg/m3, first dt about '//real_str(prm%cfl*prm%h/prm%c0)//' s')
@@ -278,7 +421,7 @@ contains
       end if
       if (prm%kgc == kgc_gradient) fx = fx//', kernel gradient correction'
       if (prm%kgc == kgc_shepard) fx = fx//', Shepard filter every '//int_str(prm%shepard_every)//' steps'
-      if (any(p%kind(1:p%n) == kind_moving)) fx = fx//', moving boundaries'
+      if (moving) fx = fx//', moving boundaries'
       if (size(bodies) > 0) then
          fx = fx//', '//int_str(size(bodies))//' rigid bodies, contact '//trim(cfg%contact%model)// &
               ' (c0 '//real_str(ct%c)//' m/s, r_f '//real_str(ct%r_f)//')'

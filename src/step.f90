@@ -12,35 +12,18 @@ module step
    use bc_motion, only: motion_apply
    use timers, only: timer_start, timer_stop, t_pairs, t_integrate, t_bodies
    use body_dynamics, only: body_t, bodies_place, bodies_fluid_forces, bodies_save, bodies_predict, &
-                            bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, bodies_accel2
-   use contact, only: contact_t, contact_forces
+                            bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, bodies_accel2, &
+                            bodies_sum_ranks
+   use contact, only: contact_t, contact_forces, contact_body_limits
+   use comm, only: comm_max
+   use comm_halo, only: comm_halo_reverse, comm_halo_refresh
    implicit none
    private
-   public :: step_advance, step_dt
+   public :: step_advance
 
    real(rp), allocatable :: x0(:, :), v0(:, :), rho0(:)   ! state at the start of a step
 
 contains
-
-   !> Time step from the forces just computed.
-   real(rp) function step_dt(prm, p, w) result(dt)
-      type(params_t), intent(in) :: prm
-      type(particles_t), intent(in) :: p
-      type(forces_work_t), intent(in) :: w
-      real(rp) :: amax2, cmax
-      integer :: i
-      amax2 = 0.0_rp
-      cmax = prm%c0
-      do i = 1, p%n
-         if (p%kind(i) /= kind_fluid) cycle
-         amax2 = max(amax2, w%acc(1, i)**2 + w%acc(2, i)**2)
-         cmax = max(cmax, w%cs(i))
-      end do
-      dt = prm%h/(cmax + w%mumax)
-      if (amax2 > 0.0_rp) dt = min(dt, sqrt(prm%h/sqrt(amax2)))
-      dt = prm%cfl*dt
-      if (prm%visc == visc_laminar_sps .and. prm%nu > 0.0_rp) dt = min(dt, 0.125_rp*prm%h2/prm%nu)
-   end function step_dt
 
    !> One step of the chosen integrator from time t. Returns the dt taken.
    !> istep is the number of the step being taken (1 for the first).
@@ -78,33 +61,59 @@ contains
       call timer_start(t_pairs)
       call forces_compute(prm, g, p, w)
       call timer_stop(t_pairs)
+      if (size(bodies) > 0) then
+         call timer_start(t_bodies)
+         call contact_forces(ct, prm, g, p, bodies, w%drho)
+         call timer_stop(t_bodies)
+      end if
+      ! the pairs' share of the halo particles, to their owners
+      call comm_halo_reverse(w%acc, p%n_own)
+      call comm_halo_reverse(w%drho, p%n_own)
       if (size(bodies) == 0) return
       call timer_start(t_bodies)
       call bodies_fluid_forces(bodies, p, w%acc)
-      call contact_forces(ct, prm, g, p, bodies, w%drho)
+      ! every rank summed the pairs and particles it owns: one sum over the
+      ! ranks, then every rank advances the same bodies
+      call bodies_sum_ranks(bodies)
+      call contact_body_limits(ct, bodies)
       call timer_stop(t_bodies)
    end subroutine evaluate
 
-   !> The fluid's time step, limited further by the bodies' accelerations
-   !> and the stiffest contact.
+   !> The time step from the forces just computed (Monaghan and Kos 1999:
+   !> force, acoustic-viscous and laminar limits), limited further by the
+   !> bodies' accelerations and the stiffest contact. The maxima are taken
+   !> over every rank at once, so every rank takes the same step.
    real(rp) function stage_dt(prm, p, w, bodies, ct) result(dt)
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
       type(forces_work_t), intent(in) :: w
       type(body_t), intent(in) :: bodies(:)
       type(contact_t), intent(in) :: ct
-      real(rp) :: a2
-      dt = step_dt(prm, p, w)
+      real(rp) :: a2, m(4)
+      integer :: i
+      ! largest squared acceleration, sound speed and viscous speed; stiffest contact
+      m = [0.0_rp, prm%c0, w%mumax, -huge(1.0_rp)]
+      do i = 1, p%n_own
+         if (p%kind(i) /= kind_fluid) cycle
+         m(1) = max(m(1), w%acc(1, i)**2 + w%acc(2, i)**2)
+         m(2) = max(m(2), w%cs(i))
+      end do
+      if (size(bodies) > 0) m(4) = -ct%dt_limit
+      call comm_max(m)
+      dt = prm%h/(m(2) + m(3))
+      if (m(1) > 0.0_rp) dt = min(dt, sqrt(prm%h/sqrt(m(1))))
+      dt = prm%cfl*dt
+      if (prm%visc == visc_laminar_sps .and. prm%nu > 0.0_rp) dt = min(dt, 0.125_rp*prm%h2/prm%nu)
       if (size(bodies) == 0) return
       a2 = bodies_accel2(bodies)
       if (a2 > 0.0_rp) dt = min(dt, prm%cfl*sqrt(prm%h/sqrt(a2)))
-      dt = min(dt, ct%dt_limit)
+      dt = min(dt, -m(4))
    end function stage_dt
 
    subroutine save_state(p)
       type(particles_t), intent(in) :: p
       integer :: n
-      n = p%n
+      n = p%n_own
       if (allocated(rho0)) then
          if (size(rho0) < n) deallocate (x0, v0, rho0)
       end if
@@ -135,7 +144,7 @@ contains
       call timer_start(t_integrate)
       call save_state(p)
       ! predictor: half a step with the rates at t
-      do i = 1, p%n
+      do i = 1, p%n_own
          p%rho(i) = p%rho(i) + hdt*w%drho(i)
          if (p%kind(i) == kind_fluid) then
             p%x(:, i) = p%x(:, i) + hdt*p%v(:, i)
@@ -151,10 +160,11 @@ contains
          call bodies_place(bodies, p)
       end if
       call timer_stop(t_integrate)
+      call comm_halo_refresh(p)
       call evaluate(prm, g, p, w, bodies, ct)
       call timer_start(t_integrate)
       if (symplectic) then
-         do i = 1, p%n
+         do i = 1, p%n_own
             eps = -(w%drho(i)/p%rho(i))*dt
             p%rho(i) = rho0(i)*(2.0_rp - eps)/(2.0_rp + eps)
             if (p%kind(i) == kind_fluid) then
@@ -166,7 +176,7 @@ contains
          end do
       else
          ! corrector to t + dt/2 with the mid-step rates, then extrapolate to t + dt
-         do i = 1, p%n
+         do i = 1, p%n_own
             p%rho(i) = 2.0_rp*(rho0(i) + hdt*w%drho(i)) - rho0(i)
             if (p%kind(i) == kind_fluid) then
                p%v(:, i) = 2.0_rp*(v0(:, i) + hdt*w%acc(:, i)) - v0(:, i)
@@ -211,7 +221,7 @@ contains
       euler = mod(istep, prm%verlet_every) == 0
       dt2 = 2.0_rp*dt
       hdt2 = 0.5_rp*dt*dt
-      do i = 1, p%n
+      do i = 1, p%n_own
          if (euler) then
             rnew = p%rho(i) + dt*w%drho(i)
          else

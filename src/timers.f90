@@ -1,7 +1,10 @@
-!> Phase timers: wall time summed per phase of the step.
+!> Phase timers: wall time summed per phase of the step. A phase started
+!> inside another pauses it (a stack of running phases), so the phases are
+!> exclusive and add up to the wall time: the communication inside the pair
+!> loop's phase counts as 'comm' only. The clock is the Fortran system clock,
+!> so that the communication module can time itself.
 module timers
-   use kinds, only: rp
-   use comm, only: comm_wtime
+   use kinds, only: rp, i8
    implicit none
    private
    public :: timer_start, timer_stop, timer_get, timer_reset, n_timers, timer_label, &
@@ -11,20 +14,46 @@ module timers
                          t_integrate = 5, t_output = 6, t_comm = 7, n_timers = 7
    character(len=12), parameter :: labels(n_timers) = [character(len=12) :: &
       'setup', 'grid', 'pair loop', 'bodies', 'integrate', 'output', 'comm']
+   integer, parameter :: max_depth = 16
 
    real(rp) :: acc(n_timers) = 0.0_rp
-   real(rp) :: started(n_timers) = 0.0_rp
+   integer :: stack(max_depth) = 0
+   integer :: depth = 0
+   integer(i8) :: since = 0_i8          !< clock count when the running phase was (re)started
 
 contains
 
+   integer(i8) function now()
+      call system_clock(now)
+   end function now
+
+   real(rp) function seconds(counts)
+      integer(i8), intent(in) :: counts
+      integer(i8) :: rate
+      call system_clock(count_rate=rate)
+      seconds = real(counts, rp)/real(rate, rp)
+   end function seconds
+
+   !> Start phase id; the running phase (if any) pauses until id stops.
    subroutine timer_start(id)
       integer, intent(in) :: id
-      started(id) = comm_wtime()
+      integer(i8) :: t
+      t = now()
+      if (depth > 0) acc(stack(depth)) = acc(stack(depth)) + seconds(t - since)
+      if (depth < max_depth) depth = depth + 1
+      stack(depth) = id
+      since = t
    end subroutine timer_start
 
+   !> Stop the running phase (id) and resume the one it interrupted.
    subroutine timer_stop(id)
       integer, intent(in) :: id
-      acc(id) = acc(id) + (comm_wtime() - started(id))
+      integer(i8) :: t
+      t = now()
+      if (depth == 0) return
+      acc(stack(depth)) = acc(stack(depth)) + seconds(t - since)
+      if (stack(depth) == id) depth = depth - 1
+      since = t
    end subroutine timer_stop
 
    real(rp) function timer_get(id)

@@ -1,0 +1,368 @@
+!> MPI of MBSPH, part two: particles between the slabs of neighbouring ranks.
+!>
+!> Every pair of particles is computed on one rank only: the pair loops'
+!> half stencil looks at the next column to the right, so a rank needs as
+!> halo the first cell column of the next rank's slab (particles within one
+!> cell, 2h, of its right edge), and nothing from the left. What the pairs
+!> add to halo particles (accelerations, density rates, moment sums) is sent
+!> back and added on their owner (comm_halo_reverse); values computed on the
+!> owner are sent forward again where a later loop needs them
+!> (comm_halo_forward). Storage: owned particles 1 .. p%n_own, halo after.
+!>
+!> Migration (every step, before the sort) sends the particles that crossed
+!> a slab edge to the neighbour that now owns them; redistribution (after
+!> the slab edges moved) sends every particle to its owner, wherever it is.
+!> On one rank every routine returns at once.
+module comm_halo
+   use mpi_f08, only: MPI_Sendrecv, MPI_Alltoall, MPI_Alltoallv, MPI_COMM_WORLD, MPI_PROC_NULL, &
+                      MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_STATUS_IGNORE
+   use kinds, only: rp
+   use particles, only: particles_t, particles_grow
+   use decomp, only: decomp_owner
+   use comm, only: comm_rank, comm_size
+   use timers, only: timer_start, timer_stop, t_comm
+   use errors, only: fatal
+   implicit none
+   private
+   public :: comm_halo_migrate, comm_halo_build, comm_halo_refresh, comm_halo_forward, comm_halo_reverse, &
+             comm_halo_redistribute, comm_halo_counts
+
+   interface comm_halo_forward
+      module procedure forward_1, forward_2
+   end interface comm_halo_forward
+   interface comm_halo_reverse
+      module procedure reverse_1, reverse_2
+   end interface comm_halo_reverse
+
+   integer, parameter :: nfull = 20      !< values per particle when it moves to another rank
+   integer, parameter :: nhalo = 16      !< values per particle of the halo
+   integer, parameter :: tag = 7
+
+   integer :: n_send = 0                 !< owned particles 1 .. n_send are the left neighbour's halo
+   integer :: n_recv = 0                 !< halo particles n_own+1 .. n_own+n_recv
+   real(rp), allocatable :: sbuf(:), rbuf(:), sbuf2(:), rbuf2(:)
+
+contains
+
+   integer function left()
+      left = MPI_PROC_NULL
+      if (comm_rank() > 0) left = comm_rank() - 1
+   end function left
+
+   integer function right()
+      right = MPI_PROC_NULL
+      if (comm_rank() < comm_size() - 1) right = comm_rank() + 1
+   end function right
+
+   subroutine ensure(buf, n)
+      real(rp), allocatable, intent(inout) :: buf(:)
+      integer, intent(in) :: n
+      if (allocated(buf)) then
+         if (size(buf) >= n) return
+         deallocate (buf)
+      end if
+      allocate (buf(max(n, 1024)))
+   end subroutine ensure
+
+   !> As ensure, keeping the contents.
+   subroutine ensure_keep(buf, n)
+      real(rp), allocatable, intent(inout) :: buf(:)
+      integer, intent(in) :: n
+      real(rp), allocatable :: b(:)
+      if (.not. allocated(buf)) allocate (buf(max(n, 1024)))
+      if (size(buf) >= n) return
+      allocate (b(max(n, 2*size(buf))))
+      b(1:size(buf)) = buf
+      call move_alloc(b, buf)
+   end subroutine ensure_keep
+
+   !> Halo sizes: particles sent to the left, particles received from the right.
+   subroutine comm_halo_counts(nsent, nreceived)
+      integer, intent(out) :: nsent, nreceived
+      nsent = n_send
+      nreceived = n_recv
+   end subroutine comm_halo_counts
+
+   !> Every value of particle i, from position k of buf.
+   subroutine pack_full(p, i, buf, k)
+      type(particles_t), intent(in) :: p
+      integer, intent(in) :: i, k
+      real(rp), intent(inout) :: buf(:)
+      buf(k:k + 19) = [p%x(:, i), p%v(:, i), p%rho(i), p%p(i), p%mass(i), p%nrm(:, i), p%xb(:, i), p%nb(:, i), &
+                       p%vm1(:, i), p%rhom1(i), real(p%kind(i), rp), real(p%body(i), rp), real(p%id(i), rp), &
+                       real(p%surf(i), rp)]
+   end subroutine pack_full
+
+   subroutine unpack_full(p, i, buf, k)
+      type(particles_t), intent(inout) :: p
+      integer, intent(in) :: i, k
+      real(rp), intent(in) :: buf(:)
+      p%x(:, i) = buf(k:k + 1); p%v(:, i) = buf(k + 2:k + 3); p%rho(i) = buf(k + 4); p%p(i) = buf(k + 5)
+      p%mass(i) = buf(k + 6); p%nrm(:, i) = buf(k + 7:k + 8); p%xb(:, i) = buf(k + 9:k + 10)
+      p%nb(:, i) = buf(k + 11:k + 12); p%vm1(:, i) = buf(k + 13:k + 14); p%rhom1(i) = buf(k + 15)
+      p%kind(i) = nint(buf(k + 16)); p%body(i) = nint(buf(k + 17)); p%id(i) = nint(buf(k + 18))
+      p%surf(i) = nint(buf(k + 19))
+   end subroutine unpack_full
+
+   !> Particles that crossed a slab edge go to the neighbour that owns them
+   !> now: marked in drop here (the sort removes them), appended on the
+   !> neighbour, those from the left first. The halo is forgotten first.
+   subroutine comm_halo_migrate(p, drop)
+      type(particles_t), intent(inout) :: p
+      logical, allocatable, intent(inout) :: drop(:)
+      integer :: i, d, me, nl, nr, rl, rr, k
+      logical, allocatable :: grown(:)
+      if (comm_size() == 1) return
+      call timer_start(t_comm)
+      me = comm_rank()
+      p%n = p%n_own
+      n_send = 0
+      n_recv = 0
+      nl = 0
+      nr = 0
+      do i = 1, p%n
+         if (drop(i)) cycle
+         d = decomp_owner(p%x(1, i))
+         if (d == me) cycle
+         if (d == me - 1) then
+            call ensure_keep(sbuf, (nl + 1)*nfull)
+            call pack_full(p, i, sbuf, nl*nfull + 1)
+            nl = nl + 1
+         else if (d == me + 1) then
+            call ensure_keep(sbuf2, (nr + 1)*nfull)
+            call pack_full(p, i, sbuf2, nr*nfull + 1)
+            nr = nr + 1
+         else
+            call fatal('particle id '//istr(p%id(i))//' moved past a whole slab in one step (from rank '// &
+                       istr(me)//' to rank '//istr(d)//')')
+         end if
+         drop(i) = .true.
+      end do
+      call ensure(sbuf, 1)
+      call ensure(sbuf2, 1)
+      ! to the left, from the right
+      rr = 0
+      call MPI_Sendrecv(nl, 1, MPI_INTEGER, left(), tag, rr, 1, MPI_INTEGER, right(), tag, MPI_COMM_WORLD, &
+                        MPI_STATUS_IGNORE)
+      ! to the right, from the left
+      rl = 0
+      call MPI_Sendrecv(nr, 1, MPI_INTEGER, right(), tag, rl, 1, MPI_INTEGER, left(), tag, MPI_COMM_WORLD, &
+                        MPI_STATUS_IGNORE)
+      call ensure(rbuf, max(rr, 1)*nfull)
+      call ensure(rbuf2, max(rl, 1)*nfull)
+      call MPI_Sendrecv(sbuf, nl*nfull, MPI_DOUBLE_PRECISION, left(), tag, rbuf, rr*nfull, MPI_DOUBLE_PRECISION, &
+                        right(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      call MPI_Sendrecv(sbuf2, nr*nfull, MPI_DOUBLE_PRECISION, right(), tag, rbuf2, rl*nfull, &
+                        MPI_DOUBLE_PRECISION, left(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      call particles_grow(p, rl + rr)
+      if (size(drop) < size(p%rho)) then
+         allocate (grown(size(p%rho)))
+         grown(1:p%n) = drop(1:p%n)
+         call move_alloc(grown, drop)
+      end if
+      do k = 1, rl
+         p%n = p%n + 1
+         call unpack_full(p, p%n, rbuf2, (k - 1)*nfull + 1)
+         drop(p%n) = .false.
+      end do
+      do k = 1, rr
+         p%n = p%n + 1
+         call unpack_full(p, p%n, rbuf, (k - 1)*nfull + 1)
+         drop(p%n) = .false.
+      end do
+      p%n_own = p%n
+      call timer_stop(t_comm)
+   end subroutine comm_halo_migrate
+
+   !> After the sort: the first nfirst owned particles (the slab's first
+   !> column) go to the left neighbour as its halo; the right neighbour's
+   !> arrive after the owned particles.
+   subroutine comm_halo_build(p, nfirst)
+      type(particles_t), intent(inout) :: p
+      integer, intent(in) :: nfirst
+      integer :: i, k, m
+      if (comm_size() == 1) return
+      call timer_start(t_comm)
+      n_send = 0
+      if (left() /= MPI_PROC_NULL) n_send = nfirst
+      call ensure(sbuf, max(n_send, 1)*nhalo)
+      do i = 1, n_send
+         k = (i - 1)*nhalo
+         sbuf(k + 1:k + nhalo) = [p%x(:, i), p%v(:, i), p%rho(i), p%mass(i), p%nrm(:, i), p%xb(:, i), p%nb(:, i), &
+                                  real(p%kind(i), rp), real(p%body(i), rp), real(p%id(i), rp), real(p%surf(i), rp)]
+      end do
+      n_recv = 0
+      call MPI_Sendrecv(n_send, 1, MPI_INTEGER, left(), tag, n_recv, 1, MPI_INTEGER, right(), tag, &
+                        MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      call ensure(rbuf, max(n_recv, 1)*nhalo)
+      call MPI_Sendrecv(sbuf, n_send*nhalo, MPI_DOUBLE_PRECISION, left(), tag, rbuf, n_recv*nhalo, &
+                        MPI_DOUBLE_PRECISION, right(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      p%n = p%n_own
+      call particles_grow(p, n_recv)
+      do m = 1, n_recv
+         i = p%n_own + m
+         k = (m - 1)*nhalo
+         p%x(:, i) = rbuf(k + 1:k + 2); p%v(:, i) = rbuf(k + 3:k + 4); p%rho(i) = rbuf(k + 5)
+         p%mass(i) = rbuf(k + 6); p%nrm(:, i) = rbuf(k + 7:k + 8); p%xb(:, i) = rbuf(k + 9:k + 10)
+         p%nb(:, i) = rbuf(k + 11:k + 12); p%kind(i) = nint(rbuf(k + 13)); p%body(i) = nint(rbuf(k + 14))
+         p%id(i) = nint(rbuf(k + 15)); p%surf(i) = nint(rbuf(k + 16))
+         p%p(i) = 0.0_rp; p%vm1(:, i) = p%v(:, i); p%rhom1(i) = p%rho(i)
+      end do
+      p%n = p%n_own + n_recv
+      call timer_stop(t_comm)
+   end subroutine comm_halo_build
+
+   !> New positions, velocities and densities of the halo (between the two
+   !> force evaluations of a step).
+   subroutine comm_halo_refresh(p)
+      type(particles_t), intent(inout) :: p
+      integer :: i, k
+      if (comm_size() == 1) return
+      call timer_start(t_comm)
+      call ensure(sbuf, max(n_send, 1)*5)
+      call ensure(rbuf, max(n_recv, 1)*5)
+      do i = 1, n_send
+         k = (i - 1)*5
+         sbuf(k + 1:k + 5) = [p%x(:, i), p%v(:, i), p%rho(i)]
+      end do
+      call MPI_Sendrecv(sbuf, n_send*5, MPI_DOUBLE_PRECISION, left(), tag, rbuf, n_recv*5, MPI_DOUBLE_PRECISION, &
+                        right(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      do i = 1, n_recv
+         k = (i - 1)*5
+         p%x(:, p%n_own + i) = rbuf(k + 1:k + 2)
+         p%v(:, p%n_own + i) = rbuf(k + 3:k + 4)
+         p%rho(p%n_own + i) = rbuf(k + 5)
+      end do
+      call timer_stop(t_comm)
+   end subroutine comm_halo_refresh
+
+   !> Owner's values of a per-particle array to the halo copies.
+   subroutine forward_2(a, n_own)
+      real(rp), intent(inout) :: a(:, :)
+      integer, intent(in) :: n_own
+      integer :: m
+      if (comm_size() == 1) return
+      call timer_start(t_comm)
+      m = size(a, 1)
+      call ensure(sbuf, max(n_send, 1)*m)
+      call ensure(rbuf, max(n_recv, 1)*m)
+      sbuf(1:n_send*m) = reshape(a(:, 1:n_send), [n_send*m])
+      call MPI_Sendrecv(sbuf, n_send*m, MPI_DOUBLE_PRECISION, left(), tag, rbuf, n_recv*m, MPI_DOUBLE_PRECISION, &
+                        right(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      a(:, n_own + 1:n_own + n_recv) = reshape(rbuf(1:n_recv*m), [m, n_recv])
+      call timer_stop(t_comm)
+   end subroutine forward_2
+
+   subroutine forward_1(a, n_own)
+      real(rp), intent(inout) :: a(:)
+      integer, intent(in) :: n_own
+      if (comm_size() == 1) return
+      call timer_start(t_comm)
+      call ensure(rbuf, max(n_recv, 1))
+      call MPI_Sendrecv(a, n_send, MPI_DOUBLE_PRECISION, left(), tag, rbuf, n_recv, MPI_DOUBLE_PRECISION, &
+                        right(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      a(n_own + 1:n_own + n_recv) = rbuf(1:n_recv)
+      call timer_stop(t_comm)
+   end subroutine forward_1
+
+   !> What the pair loops added to the halo copies, added on the owner.
+   subroutine reverse_2(a, n_own)
+      real(rp), intent(inout) :: a(:, :)
+      integer, intent(in) :: n_own
+      integer :: m
+      if (comm_size() == 1) return
+      call timer_start(t_comm)
+      m = size(a, 1)
+      call ensure(sbuf, max(n_recv, 1)*m)
+      call ensure(rbuf, max(n_send, 1)*m)
+      sbuf(1:n_recv*m) = reshape(a(:, n_own + 1:n_own + n_recv), [n_recv*m])
+      call MPI_Sendrecv(sbuf, n_recv*m, MPI_DOUBLE_PRECISION, right(), tag, rbuf, n_send*m, MPI_DOUBLE_PRECISION, &
+                        left(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      a(:, 1:n_send) = a(:, 1:n_send) + reshape(rbuf(1:n_send*m), [m, n_send])
+      call timer_stop(t_comm)
+   end subroutine reverse_2
+
+   subroutine reverse_1(a, n_own)
+      real(rp), intent(inout) :: a(:)
+      integer, intent(in) :: n_own
+      if (comm_size() == 1) return
+      call timer_start(t_comm)
+      call ensure(sbuf, max(n_recv, 1))
+      call ensure(rbuf, max(n_send, 1))
+      sbuf(1:n_recv) = a(n_own + 1:n_own + n_recv)
+      call MPI_Sendrecv(sbuf, n_recv, MPI_DOUBLE_PRECISION, right(), tag, rbuf, n_send, MPI_DOUBLE_PRECISION, &
+                        left(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      a(1:n_send) = a(1:n_send) + rbuf(1:n_send)
+      call timer_stop(t_comm)
+   end subroutine reverse_1
+
+   !> After the slab edges moved: every owned particle to the rank that owns
+   !> it now. Those that stay keep their order; the arrivals follow in the
+   !> order of their senders' ranks. The halo is forgotten.
+   subroutine comm_halo_redistribute(p)
+      type(particles_t), intent(inout) :: p
+      integer :: i, d, me, nr, k, m, nkeep
+      integer, allocatable :: scount(:), rcount(:), sdispl(:), rdispl(:), dest(:), fill(:)
+      if (comm_size() == 1) return
+      call timer_start(t_comm)
+      me = comm_rank()
+      nr = comm_size()
+      p%n = p%n_own
+      n_send = 0
+      n_recv = 0
+      allocate (scount(0:nr - 1), rcount(0:nr - 1), sdispl(0:nr - 1), rdispl(0:nr - 1), dest(p%n), fill(0:nr - 1))
+      scount = 0
+      do i = 1, p%n
+         dest(i) = decomp_owner(p%x(1, i))
+         if (dest(i) /= me) scount(dest(i)) = scount(dest(i)) + 1
+      end do
+      call MPI_Alltoall(scount, 1, MPI_INTEGER, rcount, 1, MPI_INTEGER, MPI_COMM_WORLD)
+      sdispl(0) = 0
+      rdispl(0) = 0
+      do d = 1, nr - 1
+         sdispl(d) = sdispl(d - 1) + scount(d - 1)
+         rdispl(d) = rdispl(d - 1) + rcount(d - 1)
+      end do
+      call ensure(sbuf, max(sum(scount), 1)*nfull)
+      call ensure(rbuf, max(sum(rcount), 1)*nfull)
+      fill = sdispl
+      nkeep = 0
+      do i = 1, p%n
+         d = dest(i)
+         if (d == me) then
+            nkeep = nkeep + 1
+            if (nkeep /= i) call copy(i, nkeep)
+         else
+            call pack_full(p, i, sbuf, fill(d)*nfull + 1)
+            fill(d) = fill(d) + 1
+         end if
+      end do
+      call MPI_Alltoallv(sbuf, scount*nfull, sdispl*nfull, MPI_DOUBLE_PRECISION, rbuf, rcount*nfull, &
+                         rdispl*nfull, MPI_DOUBLE_PRECISION, MPI_COMM_WORLD)
+      p%n = nkeep
+      m = sum(rcount)
+      call particles_grow(p, m)
+      do k = 1, m
+         p%n = p%n + 1
+         call unpack_full(p, p%n, rbuf, (k - 1)*nfull + 1)
+      end do
+      p%n_own = p%n
+      call timer_stop(t_comm)
+   contains
+      subroutine copy(from, to)
+         integer, intent(in) :: from, to
+         p%x(:, to) = p%x(:, from); p%v(:, to) = p%v(:, from); p%rho(to) = p%rho(from); p%p(to) = p%p(from)
+         p%mass(to) = p%mass(from); p%nrm(:, to) = p%nrm(:, from); p%xb(:, to) = p%xb(:, from)
+         p%nb(:, to) = p%nb(:, from); p%vm1(:, to) = p%vm1(:, from); p%rhom1(to) = p%rhom1(from)
+         p%kind(to) = p%kind(from); p%body(to) = p%body(from); p%id(to) = p%id(from); p%surf(to) = p%surf(from)
+      end subroutine copy
+   end subroutine comm_halo_redistribute
+
+   function istr(i) result(s)
+      integer, intent(in) :: i
+      character(len=:), allocatable :: s
+      character(len=16) :: b
+      write (b, '(i0)') i
+      s = trim(b)
+   end function istr
+end module comm_halo
