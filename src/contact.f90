@@ -482,11 +482,11 @@ contains
       do k = 1, ct%nk
          ct%kx(:, k) = 0.0_rp
          ct%kw(k) = 0.0_rp
-         do m = 1, size(all)/5
-            if (nint(all(5*m - 4)) /= ct%kid(1, k) .or. nint(all(5*m - 3)) /= ct%kid(2, k)) cycle
+         entries: do m = 1, size(all)/5
+            if (nint(all(5*m - 4)) /= ct%kid(1, k) .or. nint(all(5*m - 3)) /= ct%kid(2, k)) cycle entries
             ct%kx(:, k) = ct%kx(:, k) + all(5*m - 2:5*m - 1)
             ct%kw(k) = ct%kw(k) + all(5*m)
-         end do
+         end do entries
       end do
    end subroutine merge_keys
 

@@ -98,11 +98,11 @@ contains
       do r = 1, nr - 1
          target = total*real(r, rp)/real(nr, rp)
          ! advance while the column still fits under the target (nearest split)
-         do while (k < ncol - 1)
-            if (cum + 0.5_rp*count(k) >= target) exit
+         advance: do while (k < ncol - 1)
+            if (cum + 0.5_rp*count(k) >= target) exit advance
             cum = cum + count(k)
             k = k + 1
-         end do
+         end do advance
          ! each slab at least one column, and room left for the ranks after
          e(r) = min(max(k, e(r - 1) + 1), ncol - (nr - r))
          if (e(r) /= k) then

@@ -72,10 +72,13 @@ contains
       integer :: c, i, j, r, jlo(2), jhi(2)
       real(rp) :: dx, dy, r2, q, w, hinv
       hinv = 1.0_rp/prm%h
-      do i = 1, p%n
+      do i = 1, p%n_own
          msum(i) = p%mass(i)*prm%w0
          wsum(i) = p%mass(i)/p%rho(i)*prm%w0
       end do
+      ! the halo copies collect pair sums only: their owner adds its own term
+      msum(p%n_own + 1:p%n) = 0.0_rp
+      wsum(p%n_own + 1:p%n) = 0.0_rp
       ! one copy of the sweep per kernel: no kernel test inside the pair loop
       if (prm%kernel == kernel_cubic) then
 #define KFAC(q) KW_CUBIC(q)

@@ -61,6 +61,60 @@ contains
       type(case_cfg), intent(in) :: c
       real(rp) :: dt_floor, wall_last
       logical :: done, written
+      call setup(c)
+
+      ! a collapsing step means the flow went unstable; without fluid the
+      ! acoustic scale means nothing and stiff contacts set the step
+      dt_floor = 1.0e-4_rp*prm%cfl*prm%h/prm%c0
+      if (st%n_fluid0 == 0) dt_floor = 0.0_rp
+      st%istep0 = st%istep
+      st%t0 = st%t
+      st%wall0 = comm_wtime()
+      wall_last = st%wall0
+      done = finished()
+      written = .true.
+      do while (.not. done)
+         call neighbours()
+         call step_advance(prm, g, p, w, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt)
+         st%t = st%t + st%dt
+         st%istep = st%istep + 1
+         st%particle_steps = st%particle_steps + n_global
+         call check_state(dt_floor)
+         done = finished()
+         written = .false.
+         if (st%t >= st%t_next_snap*(1.0_rp - 1.0e-12_rp) .or. st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp)) then
+            call write_outputs(st%t >= st%t_next_snap*(1.0_rp - 1.0e-12_rp), &
+                               st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp))
+            written = st%t >= st%t_next_snap - cfg%run%dt_out   ! a snapshot of this very step exists
+         end if
+         if (cfg%run%checkpoint_every > 0) then
+            if (mod(st%istep, cfg%run%checkpoint_every) == 0 .and. .not. done) then
+               call timer_start(t_output)
+               call checkpoint_write(out, p, st, bodies)
+               call timer_stop(t_output)
+            end if
+         end if
+         if (comm_wtime() - wall_last >= cfg%run%progress_interval .or. done) then
+            call progress()
+            wall_last = comm_wtime()
+         end if
+      end do
+      ! the final state always gets a snapshot and a checkpoint
+      call timer_start(t_output)
+      if (.not. written) call write_outputs(.true., .true.)
+      call checkpoint_write(out, p, st, bodies)
+      call timer_stop(t_output)
+      call summary()
+      call energy_close()
+      call bodies_csv_close()
+      call h5_stop()
+      call log_close()
+   end subroutine solver_run
+
+   !> Everything before the first step: the output folder, the particles
+   !> (new or from the checkpoint), this rank's slab, the first output.
+   subroutine setup(c)
+      type(case_cfg), intent(in) :: c
       integer, allocatable :: counts(:), edges(:)
       cfg = c
       out = trim(c%run%out_dir)
@@ -111,75 +165,37 @@ contains
          call write_outputs(.true., .true.)
       end if
       call timer_stop(t_setup)
+   end subroutine setup
 
-      ! a collapsing step means the flow went unstable; without fluid the
-      ! acoustic scale means nothing and stiff contacts set the step
-      dt_floor = 1.0e-4_rp*prm%cfl*prm%h/prm%c0
-      if (st%n_fluid0 == 0) dt_floor = 0.0_rp
-      st%istep0 = st%istep
-      st%t0 = st%t
-      st%wall0 = comm_wtime()
-      wall_last = st%wall0
-      done = finished()
-      written = .true.
-      do while (.not. done)
-         call timer_start(t_grid)
-         ! (a restart on as many ranks balances at the same steps as the run it continues)
-         if (comm_size() > 1 .and. cfg%run%balance_every > 0 .and. st%istep > 0) then
-            if (mod(st%istep, cfg%run%balance_every) == 0) call rebalance()
-         end if
-         call remove_particles()
-         call comm_halo_migrate(p, drop)
-         call grid_sort(g, p, drop, cells=size(bodies) > 0)
-         if (comm_size() > 1) then
-            call comm_halo_build(p, grid_first_column_end(g))
-            if (.not. grid_add_halo(g, p)) call fatal('the halo arrived out of cell order (internal error)')
-            call ensure_scratch()
-         end if
-         if (prm%kgc == kgc_shepard .and. mod(st%istep + 1, prm%shepard_every) == 0) then
-            call shepard_filter(prm, g, p, scratch1, scratch2)
-         end if
-         call timer_stop(t_grid)
-         call step_advance(prm, g, p, w, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt)
-         st%t = st%t + st%dt
-         st%istep = st%istep + 1
-         st%particle_steps = st%particle_steps + n_global
-         call check_state(dt_floor)
-         done = finished()
-         written = .false.
-         if (st%t >= st%t_next_snap*(1.0_rp - 1.0e-12_rp) .or. st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp)) then
-            call write_outputs(st%t >= st%t_next_snap*(1.0_rp - 1.0e-12_rp), &
-                               st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp))
-            written = st%t >= st%t_next_snap - cfg%run%dt_out   ! a snapshot of this very step exists
-         end if
-         if (cfg%run%checkpoint_every > 0) then
-            if (mod(st%istep, cfg%run%checkpoint_every) == 0 .and. .not. done) then
-               call timer_start(t_output)
-               call checkpoint_write(out, p, st, bodies)
-               call timer_stop(t_output)
-            end if
-         end if
-         if (comm_wtime() - wall_last >= cfg%run%progress_interval .or. done) then
-            call progress()
-            wall_last = comm_wtime()
-         end if
-      end do
-      ! the final state always gets a snapshot and a checkpoint
-      call timer_start(t_output)
-      if (.not. written) call write_outputs(.true., .true.)
-      call checkpoint_write(out, p, st, bodies)
-      call timer_stop(t_output)
-      call summary()
-      call energy_close()
-      call bodies_csv_close()
-      call h5_stop()
-      call log_close()
-   end subroutine solver_run
+   !> Before a step: slab edges (every balance_every steps), removals,
+   !> migration, the sort by cell, the halo, the Shepard filter when due.
+   subroutine neighbours()
+      call timer_start(t_grid)
+      ! at step 0 and every balance_every steps (a restart on as many ranks
+      ! balances at the same steps as the run it continues)
+      if (comm_size() > 1 .and. cfg%run%balance_every > 0) then
+         if (mod(st%istep, cfg%run%balance_every) == 0) call rebalance()
+      end if
+      call remove_particles()
+      call comm_halo_migrate(p, drop)
+      call grid_sort(g, p, drop, cells=size(bodies) > 0)
+      if (comm_size() > 1) then
+         call comm_halo_build(p, grid_first_column_end(g))
+         if (.not. grid_add_halo(g, p)) call fatal('the halo arrived out of cell order (internal error)')
+         call ensure_scratch()
+      end if
+      if (prm%kgc == kgc_shepard .and. mod(st%istep + 1, prm%shepard_every) == 0) then
+         call shepard_filter(prm, g, p, scratch1, scratch2)
+      end if
+      call timer_stop(t_grid)
+   end subroutine neighbours
 
-   !> Split the whole set among the ranks: slab edges from the particle
-   !> count of every cell column (or, restarting on as many ranks, the edges
-   !> of the run continued, and its memory order), and each rank keeps its
-   !> own particles. Sets up the grid of this rank's slab.
+   !> Split the whole set among the ranks: slabs of equal width (a new run;
+   !> the first step balances them), the edges of the run continued (a
+   !> restart on as many ranks, with its memory order), or edges from the
+   !> particle count of every cell column (a restart on another number of
+   !> ranks); each rank keeps its own particles. Sets up the grid of this
+   !> rank's slab.
    subroutine decompose(counts, edges)
       integer, intent(in) :: counts(:), edges(:)
       integer, allocatable :: hist(:), perm(:)
@@ -197,7 +213,8 @@ contains
       if (same) same = edges(nr + 1) == g%ncx_all
       if (same) then
          call decomp_set_edges(edges)
-      else
+      else if (cfg%run%restart .and. cfg%run%balance_every > 0) then
+         ! (a new run starts from slabs of equal width and balances at step 0)
          allocate (hist(0:g%ncx_all - 1))
          hist = 0
          do i = 1, p%n
