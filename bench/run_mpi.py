@@ -3,6 +3,7 @@
     .venv/bin/python bench/run_mpi.py strong [--dp 0.0025] [--steps 200] [--ranks 1 2]
     .venv/bin/python bench/run_mpi.py weak [--dp 0.005] [--steps 400] [--ranks 1 2]
     .venv/bin/python bench/run_mpi.py agree [--steps 200] [--ranks 2]
+    .venv/bin/python bench/run_mpi.py model [--ranks 64 1024]
 
 strong: one case (dp = 0.0025 m: 332,018 particles) on each rank count; prints the wall
 time of the stepping loop per step, the speed-up against the first rank count, the cost
@@ -15,11 +16,15 @@ agree: the dam break of tests/cases/dambreak.nml (coarse) on 1 rank and on each 
 count; prints the largest difference of positions, velocities and densities (particles
 matched by id) relative to each field's largest magnitude.
 
+model: the communication volume per step of the halo scheme (doc/parallel.md) for a
+2D flume, against particle count and ranks; no run.
+
 Each run is started with `mpirun -np P` (plus --allow-run-as-root as root and
 --oversubscribe), one at a time. Measure on a quiet machine: the script prints the load
 average before each run.
 """
 import argparse
+import math
 import os
 import re
 import shutil
@@ -121,9 +126,45 @@ def agree(args: argparse.Namespace) -> None:
         print(f"{p:5d} {b.step:5d} {rel[0]:10.1e} {rel[1]:10.1e} {rel[2]:10.1e}")
 
 
+# values per halo particle and step (doc/parallel.md, symplectic integrator): halo 16,
+# refresh before the second evaluation 5, acceleration and density rate back after
+# each of the two evaluations 2 x 3
+HALO_VALUES = 16 + 5 + 2 * 3
+MESSAGES = 11            # MPI_Sendrecv calls per step (halo 2, migration 4, refresh 1, reverse 4)
+REDUCTIONS = 3           # MPI_Allreduce calls per step (dt, removals, NaN check)
+
+
+def model(args: argparse.Namespace) -> None:
+    """Flume aspect: the particle field is `aspect` times longer than high (water and air
+    over the domain); h = sqrt(2) dp, so a cell column (2h) holds 2 sqrt(2) n_y particles."""
+    aspect = 50.0
+    latency, bandwidth, cost = 2e-6, 10e9, 0.17e-6     # s, B/s, s per particle-step
+    print(f"flume {aspect:.0f} times longer than high, h/dp = sqrt(2); per rank and step, symplectic;")
+    print(f"network {latency * 1e6:.0f} us latency, {bandwidth / 1e9:.0f} GB/s; compute {cost * 1e6:.2f} us "
+          "per particle-step")
+    print(f"{'particles':>11} {'ranks':>6} {'per rank':>9} {'columns':>8} {'halo':>7} {'halo %':>7} "
+          f"{'kB sent':>8} {'all ranks MB':>13} {'comm us':>8} {'compute us':>11} {'comm %':>7}")
+    for n in (1e6, 1e7, 1e8):
+        ny = (n / aspect) ** 0.5
+        nx = n / ny
+        col = 2.0 * 2.0 ** 0.5 * ny               # particles per cell column
+        for p in args.ranks:
+            columns = nx / (2.0 * 2.0 ** 0.5) / p
+            if columns < 1.0:
+                continue
+            mig = 0.01 * col * 20                 # about 1 % of a column crosses an edge per step
+            kb = (HALO_VALUES * col + mig) * 8 / 1e3
+            # neighbour messages overlap in pairs; a reduction takes log2(P) latencies
+            comm = MESSAGES * latency + kb * 1e3 / bandwidth + REDUCTIONS * math.log2(p) * latency
+            compute = n / p * cost
+            print(f"{n:11.0e} {p:6d} {n / p:9.0f} {columns:8.1f} {col:7.0f} {100 * col * p / n:6.1f}% "
+                  f"{kb:8.1f} {kb * p / 1e3:13.1f} {1e6 * comm:8.0f} {1e6 * compute:11.0f} "
+                  f"{100 * comm / (comm + compute):6.1f}%")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("mode", choices=["strong", "weak", "agree"])
+    ap.add_argument("mode", choices=["strong", "weak", "agree", "model"])
     ap.add_argument("--dp", type=float, default=None, help="particle spacing [m]")
     ap.add_argument("--steps", type=int, default=None, help="steps per run")
     ap.add_argument("--ranks", type=int, nargs="+", default=None, help="rank counts")
@@ -138,6 +179,9 @@ def main() -> None:
         args.steps = args.steps or 400
         args.ranks = args.ranks or [1, 2]
         scaling(args, weak=True)
+    elif args.mode == "model":
+        args.ranks = args.ranks or [64, 1024]
+        model(args)
     else:
         args.steps = args.steps or 200
         args.ranks = args.ranks or [2]

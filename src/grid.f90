@@ -13,7 +13,7 @@ module grid
    use particles, only: particles_t, particles_permute
    implicit none
    private
-   public :: grid_t, grid_init, grid_sort, grid_cell_of, grid_column, grid_visit_pairs, grid_first_column_end, &
+   public :: grid_t, grid_init, grid_sort, grid_cell_of, grid_cell, grid_column, grid_visit_pairs, grid_first_column_end, &
              grid_add_halo
 
    type :: grid_t
@@ -21,9 +21,11 @@ module grid
       real(rp) :: cs              !< cell side = 2h [m]
       integer :: ncx_all          !< cell columns over the whole domain
       integer :: col0             !< first column of this rank's slab (0-based, global)
-      integer :: ncx, ncy         !< cell columns of this rank's slab; cell rows
-      integer :: nx, ny           !< with the ghost (or halo) columns and the ghost rows: ncx+2, ncy+2
+      integer :: ncol, ncy        !< cell columns of this rank's slab; cell rows
+      integer :: ny               !< rows with the ghost rows: ncy+2
       integer :: stride           !< index distance of neighbouring columns: ny
+      ! cell (ix, iy) (ix: 0 ghost, 1..ncol slab, ncol+1 halo or ghost; iy: 0 and
+      ! ncy+1 ghosts) is number ix*ny + iy + 1: see grid_cell
       integer :: ncell            !< nx*ny
       integer, allocatable :: cstart(:)   !< particles of cell c: cstart(c) .. cstart(c+1)-1
       integer, allocatable :: cell(:)     !< cell of each particle (scratch)
@@ -45,15 +47,14 @@ contains
       g%ncx_all = max(1, ceiling((xmax - xmin)/g%cs))
       g%ncy = max(1, ceiling((ymax - ymin)/g%cs))
       g%col0 = 0
-      g%ncx = g%ncx_all
+      g%ncol = g%ncx_all
       if (present(col_lo) .and. present(col_hi)) then
          g%col0 = col_lo
-         g%ncx = col_hi - col_lo
+         g%ncol = col_hi - col_lo
       end if
-      g%nx = g%ncx + 2
       g%ny = g%ncy + 2
       g%stride = g%ny
-      g%ncell = g%nx*g%ny
+      g%ncell = (g%ncol + 2)*g%ny
       allocate (g%cstart(g%ncell + 2))
    end subroutine grid_init
 
@@ -72,10 +73,20 @@ contains
       type(grid_t), intent(in) :: g
       real(rp), intent(in) :: x, y
       integer :: ix, iy
-      ix = min(max(grid_column(g%x0, g%cs, g%ncx_all, x) - g%col0 + 1, 1), g%ncx + 1)
+      ix = min(max(grid_column(g%x0, g%cs, g%ncx_all, x) - g%col0 + 1, 1), g%ncol + 1)
       iy = min(max(int((y - g%y0)/g%cs) + 1, 1), g%ncy)
       c = iy + ix*g%ny + 1
    end function grid_cell_of
+
+   !> Cell number of global column k (0-based, as grid_column) and row iy
+   !> (1 .. ncy), or 0 when column k is not one of this rank's slab.
+   pure integer function grid_cell(g, k, iy) result(c)
+      type(grid_t), intent(in) :: g
+      integer, intent(in) :: k, iy
+      c = 0
+      if (k < g%col0 .or. k >= g%col0 + g%ncol) return
+      c = iy + (k - g%col0 + 1)*g%ny + 1
+   end function grid_cell
 
    !> Sort particles by cell. Particles with drop(i) set are moved past the
    !> end and forgotten; p%n shrinks accordingly. The sort is stable, so the
