@@ -32,7 +32,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test unit unit-debug pytest run lint bench clean figures paper stability
+.PHONY: all debug deps test unit unit-debug pytest run lint bench clean figures paper stability study
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -94,6 +94,14 @@ paper: figures
 stability: deps build/mbsph
 	@for c in input/stability/*.nml; do echo "== $$c"; build/mbsph $$c > /dev/null || exit 1; done
 	$(PYTHON) -m post.stability OUT/stability/* --table doc/stability.md
+
+# accuracy against cost: every study of study/*.toml (resumable: finished runs are
+# kept in OUT/study/), its tables into doc/accuracy-cost.md, its figures into doc/img;
+# `make study STUDIES=study/tank_dp.toml` for one, STUDY_FLAGS="--workers 1" to limit
+STUDIES     ?= $(sort $(wildcard study/*.toml))
+STUDY_FLAGS ?= --nice 10
+study: deps build/mbsph
+	$(PYTHON) -m post.study $(STUDIES) --doc doc/accuracy-cost.md --img doc/img $(STUDY_FLAGS)
 
 bench: deps build/mbsph
 	$(PYTHON) bench/run_bench.py

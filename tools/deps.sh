@@ -18,7 +18,8 @@ cd "$root"
 say() { printf 'deps: %s\n' "$*"; }
 
 # ---------------------------------------------------------------- (a) Debian packages
-pkgs=(gfortran libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libfftw3-dev make)
+# time: GNU time, which measures the peak memory of the runs of post/study.py
+pkgs=(gfortran libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libfftw3-dev make time)
 if [[ "${MBSPH_NO_PARAVIEW:-0}" != 1 ]]; then
     # pvpython is in paraview; its Python modules in python3-paraview; xvfb-run needs xauth
     pkgs+=(paraview python3-paraview xvfb xauth)
