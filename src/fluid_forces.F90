@@ -1,12 +1,14 @@
 !> Fluid forces: continuity and momentum of weakly compressible SPH over all
-!> particle pairs (dynamic boundary: wall particles take part in continuity
-!> and lend their pressure to the fluid). The pair loop is chosen once per
-!> run among specialised variants (fluid_pairs.inc), one per combination of
-!> kernel, viscosity model, density diffusion and gradient correction.
+!> particle pairs. Dynamic boundary: wall particles take part in continuity
+!> and lend their pressure to the fluid; repulsive boundary: the outer row of
+!> every solid pushes fluid particles off with the Monaghan-Kos force. The
+!> pair loop is chosen once per run among specialised variants
+!> (fluid_pairs.inc), one per combination of boundary, kernel, viscosity
+!> model, density diffusion and gradient correction.
 module fluid_forces
    use kinds, only: rp
    use constants, only: kind_fluid
-   use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient
+   use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive
    use grid, only: grid_t
    use particles, only: particles_t
    use eos, only: eos_update, eos_density_at_depth
@@ -16,6 +18,10 @@ module fluid_forces
    implicit none
    private
    public :: forces_work_t, forces_init, forces_compute
+
+   !> constants of the repulsive boundary handed to the pair loops: A's two
+   !> factors, q0, 40/c0, the still-water level, 1/h_swl, dp
+   integer, parameter :: n_rep = 7
 
    !> Per-particle work arrays of a force evaluation (not kept across steps).
    type :: forces_work_t
@@ -29,15 +35,16 @@ module fluid_forces
    end type forces_work_t
 
    abstract interface
-      subroutine pairs_iface(n, ncell, stride, cstart, x, v, rho, p, mass, kind, cs, rhod, lm, tau, &
-                             h, support2, eta2, fw, alpha, nu4, dcoef, acc, drho, mumax)
-         import :: rp
+      subroutine pairs_iface(n, ncell, stride, cstart, x, v, rho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, &
+                             h, support2, eta2, fw, alpha, nu4, dcoef, rep, acc, drho, mumax)
+         import :: rp, n_rep
          implicit none
          integer, intent(in) :: n, ncell, stride
          integer, intent(in) :: cstart(:)
          real(rp), intent(in) :: x(2, n), v(2, n), rho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
-         integer, intent(in) :: kind(n)
-         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef
+         real(rp), intent(in) :: nrm(2, n)
+         integer, intent(in) :: kind(n), surf(n)
+         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, rep(n_rep)
          real(rp), intent(inout) :: acc(2, n), drho(n)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_iface
@@ -54,26 +61,36 @@ contains
    subroutine forces_init(prm)
       type(params_t), intent(in) :: prm
       integer :: code
-      code = merge(1, 0, prm%kernel == kernel_cubic) + 2*merge(1, 0, prm%visc == visc_laminar_sps) &
-             + 4*merge(1, 0, prm%diffusion /= diff_none) + 8*merge(1, 0, prm%kgc == kgc_gradient)
+      ! the repulsive boundary runs without density diffusion and gradient
+      ! correction (the input refuses them; doc/theory.md says why)
+      code = merge(1, 0, prm%kernel == kernel_cubic) + 2*merge(1, 0, prm%visc == visc_laminar_sps)
+      if (prm%boundary == bnd_repulsive) then
+         code = code + 16
+      else
+         code = code + 4*merge(1, 0, prm%diffusion /= diff_none) + 8*merge(1, 0, prm%kgc == kgc_gradient)
+      end if
       select case (code)
-      case (0); pairs => pairs_k1_v1_d0_g0
-      case (1); pairs => pairs_k2_v1_d0_g0
-      case (2); pairs => pairs_k1_v2_d0_g0
-      case (3); pairs => pairs_k2_v2_d0_g0
-      case (4); pairs => pairs_k1_v1_d1_g0
-      case (5); pairs => pairs_k2_v1_d1_g0
-      case (6); pairs => pairs_k1_v2_d1_g0
-      case (7); pairs => pairs_k2_v2_d1_g0
-      case (8); pairs => pairs_k1_v1_d0_g1
-      case (9); pairs => pairs_k2_v1_d0_g1
-      case (10); pairs => pairs_k1_v2_d0_g1
-      case (11); pairs => pairs_k2_v2_d0_g1
-      case (12); pairs => pairs_k1_v1_d1_g1
-      case (13); pairs => pairs_k2_v1_d1_g1
-      case (14); pairs => pairs_k1_v2_d1_g1
-      case (15); pairs => pairs_k2_v2_d1_g1
-      case default  ! none: code is 0 .. 15 by construction
+      case (0); pairs => pairs_b1_k1_v1_d0_g0
+      case (1); pairs => pairs_b1_k2_v1_d0_g0
+      case (2); pairs => pairs_b1_k1_v2_d0_g0
+      case (3); pairs => pairs_b1_k2_v2_d0_g0
+      case (4); pairs => pairs_b1_k1_v1_d1_g0
+      case (5); pairs => pairs_b1_k2_v1_d1_g0
+      case (6); pairs => pairs_b1_k1_v2_d1_g0
+      case (7); pairs => pairs_b1_k2_v2_d1_g0
+      case (8); pairs => pairs_b1_k1_v1_d0_g1
+      case (9); pairs => pairs_b1_k2_v1_d0_g1
+      case (10); pairs => pairs_b1_k1_v2_d0_g1
+      case (11); pairs => pairs_b1_k2_v2_d0_g1
+      case (12); pairs => pairs_b1_k1_v1_d1_g1
+      case (13); pairs => pairs_b1_k2_v1_d1_g1
+      case (14); pairs => pairs_b1_k1_v2_d1_g1
+      case (15); pairs => pairs_b1_k2_v2_d1_g1
+      case (16); pairs => pairs_b2_k1_v1_d0_g0
+      case (17); pairs => pairs_b2_k2_v1_d0_g0
+      case (18); pairs => pairs_b2_k1_v2_d0_g0
+      case (19); pairs => pairs_b2_k2_v2_d0_g0
+      case default  ! none: code is 0 .. 19 by construction
       end select
    end subroutine forces_init
 
@@ -113,6 +130,7 @@ contains
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       integer :: i, n
+      real(rp) :: rep(n_rep)
       n = p%n
       call ensure(w, size(p%rho), prm)
       call eos_update(prm, n, p%rho, p%p, w%cs)
@@ -128,9 +146,11 @@ contains
       w%acc(:, 1:n) = 0.0_rp
       w%drho(1:n) = 0.0_rp
       w%mumax = 0.0_rp
+      ! constants of the repulsive boundary, unused by the dynamic one
+      rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
       call pairs(n, g%ncell, g%stride, g%cstart, p%x, p%v, p%rho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
-                 prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                 w%acc, w%drho, w%mumax)
+                 p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
+                 rep, w%acc, w%drho, w%mumax)
       ! gravity on the owned particles only: the pair sums of the halo
       ! copies are added to their owners afterwards (comm_halo_reverse)
       do i = 1, p%n_own
@@ -179,7 +199,8 @@ contains
       call comm_halo_forward(tau, p%n_own)
    end subroutine sps_stress
 
-#define PAIRS_NAME pairs_k1_v1_d0_g0
+#define PAIRS_NAME pairs_b1_k1_v1_d0_g0
+#define BC 1
 #define KERN 1
 #define VISC 1
 #define DIFF 0
@@ -187,7 +208,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k1_v1_d0_g1
+#define PAIRS_NAME pairs_b1_k1_v1_d0_g1
+#define BC 1
 #define KERN 1
 #define VISC 1
 #define DIFF 0
@@ -195,7 +217,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k1_v1_d1_g0
+#define PAIRS_NAME pairs_b1_k1_v1_d1_g0
+#define BC 1
 #define KERN 1
 #define VISC 1
 #define DIFF 1
@@ -203,7 +226,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k1_v1_d1_g1
+#define PAIRS_NAME pairs_b1_k1_v1_d1_g1
+#define BC 1
 #define KERN 1
 #define VISC 1
 #define DIFF 1
@@ -211,7 +235,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k1_v2_d0_g0
+#define PAIRS_NAME pairs_b1_k1_v2_d0_g0
+#define BC 1
 #define KERN 1
 #define VISC 2
 #define DIFF 0
@@ -219,7 +244,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k1_v2_d0_g1
+#define PAIRS_NAME pairs_b1_k1_v2_d0_g1
+#define BC 1
 #define KERN 1
 #define VISC 2
 #define DIFF 0
@@ -227,7 +253,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k1_v2_d1_g0
+#define PAIRS_NAME pairs_b1_k1_v2_d1_g0
+#define BC 1
 #define KERN 1
 #define VISC 2
 #define DIFF 1
@@ -235,7 +262,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k1_v2_d1_g1
+#define PAIRS_NAME pairs_b1_k1_v2_d1_g1
+#define BC 1
 #define KERN 1
 #define VISC 2
 #define DIFF 1
@@ -243,7 +271,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k2_v1_d0_g0
+#define PAIRS_NAME pairs_b1_k2_v1_d0_g0
+#define BC 1
 #define KERN 2
 #define VISC 1
 #define DIFF 0
@@ -251,7 +280,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k2_v1_d0_g1
+#define PAIRS_NAME pairs_b1_k2_v1_d0_g1
+#define BC 1
 #define KERN 2
 #define VISC 1
 #define DIFF 0
@@ -259,7 +289,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k2_v1_d1_g0
+#define PAIRS_NAME pairs_b1_k2_v1_d1_g0
+#define BC 1
 #define KERN 2
 #define VISC 1
 #define DIFF 1
@@ -267,7 +298,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k2_v1_d1_g1
+#define PAIRS_NAME pairs_b1_k2_v1_d1_g1
+#define BC 1
 #define KERN 2
 #define VISC 1
 #define DIFF 1
@@ -275,7 +307,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k2_v2_d0_g0
+#define PAIRS_NAME pairs_b1_k2_v2_d0_g0
+#define BC 1
 #define KERN 2
 #define VISC 2
 #define DIFF 0
@@ -283,7 +316,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k2_v2_d0_g1
+#define PAIRS_NAME pairs_b1_k2_v2_d0_g1
+#define BC 1
 #define KERN 2
 #define VISC 2
 #define DIFF 0
@@ -291,7 +325,8 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k2_v2_d1_g0
+#define PAIRS_NAME pairs_b1_k2_v2_d1_g0
+#define BC 1
 #define KERN 2
 #define VISC 2
 #define DIFF 1
@@ -299,11 +334,48 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_k2_v2_d1_g1
+#define PAIRS_NAME pairs_b1_k2_v2_d1_g1
+#define BC 1
 #define KERN 2
 #define VISC 2
 #define DIFF 1
 #define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_b2_k1_v1_d0_g0
+#define BC 2
+#define KERN 1
+#define VISC 1
+#define DIFF 0
+#define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_b2_k1_v2_d0_g0
+#define BC 2
+#define KERN 1
+#define VISC 2
+#define DIFF 0
+#define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_b2_k2_v1_d0_g0
+#define BC 2
+#define KERN 2
+#define VISC 1
+#define DIFF 0
+#define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_b2_k2_v2_d0_g0
+#define BC 2
+#define KERN 2
+#define VISC 2
+#define DIFF 0
+#define KGC 0
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 end module fluid_forces

@@ -21,16 +21,18 @@ module input_numerics
       real(rp) :: cs_sps = 0.12_rp                       !< Smagorinsky constant (SPS) [-]
       real(rp) :: ci_sps = 0.0066_rp                     !< Blin constant (SPS) [-]
       character(len=name_len) :: diffusion = 'fourtakas'  !< 'none' | 'molteni' | 'fourtakas'
+                                                         !< (default 'none' with boundary = 'repulsive')
       real(rp) :: delta = 0.1_rp                         !< density diffusion coefficient [-]
       character(len=name_len) :: kernel_correction = 'none'  !< 'none' | 'gradient' | 'shepard'
       integer :: shepard_every = 30                      !< Shepard density filter every N steps
+      character(len=name_len) :: boundary = 'dynamic'    !< fluid on solids: 'dynamic' | 'repulsive'
    end type numerics_cfg
 
    real(rp) :: dp, h_over_dp, cfl, alpha, nu, cs_sps, ci_sps, delta
-   character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction
+   character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction, boundary
    integer :: verlet_every, shepard_every
    namelist /numerics/ dp, h_over_dp, kernel, cfl, integrator, verlet_every, viscosity, alpha, &
-      nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every
+      nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every, boundary
 
 contains
 
@@ -40,7 +42,7 @@ contains
       integrator = c%integrator; verlet_every = c%verlet_every; viscosity = c%viscosity
       alpha = c%alpha; nu = c%nu; cs_sps = c%cs_sps; ci_sps = c%ci_sps
       diffusion = c%diffusion; delta = c%delta; kernel_correction = c%kernel_correction
-      shepard_every = c%shepard_every
+      shepard_every = c%shepard_every; boundary = c%boundary
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -49,7 +51,7 @@ contains
       c%integrator = integrator; c%verlet_every = verlet_every; c%viscosity = viscosity
       c%alpha = alpha; c%nu = nu; c%cs_sps = cs_sps; c%ci_sps = ci_sps
       c%diffusion = diffusion; c%delta = delta; c%kernel_correction = kernel_correction
-      c%shepard_every = shepard_every
+      c%shepard_every = shepard_every; c%boundary = boundary
    end subroutine from_vars
 
    subroutine read_numerics(file, c)
@@ -61,6 +63,7 @@ contains
       if (group_count(file, 'numerics') == 0) call input_error(file, 'numerics', '', 'required group is missing')
       if (group_count(file, 'numerics') > 1) call input_error(file, 'numerics', '', 'group appears more than once')
       call to_vars(d)
+      diffusion = ''                   ! left blank: its default depends on boundary
       u = open_case(file)
       read (u, nml=numerics, iostat=ios, iomsg=msg)
       close (u)
@@ -80,12 +83,23 @@ contains
       call check_real(file, 'numerics', 'nu', c%nu, 0.0_rp, 1.0_rp)
       call check_real(file, 'numerics', 'cs_sps', c%cs_sps, 0.0_rp, 1.0_rp)
       call check_real(file, 'numerics', 'ci_sps', c%ci_sps, 0.0_rp, 1.0_rp)
+      call check_choice(file, 'numerics', 'boundary', c%boundary, [character(len=name_len) :: 'dynamic', 'repulsive'])
+      if (len_trim(c%diffusion) == 0) c%diffusion = merge('none     ', 'fourtakas', c%boundary == 'repulsive')
       call check_choice(file, 'numerics', 'diffusion', c%diffusion, &
                         [character(len=name_len) :: 'none', 'molteni', 'fourtakas'])
+      ! next to a repulsive wall the water needs a density above the
+      ! hydrostatic one (the wall lends it no pressure); diffusion removes it
+      ! and drives a current along the wall (doc/theory.md)
+      if (c%boundary == 'repulsive' .and. c%diffusion /= 'none') call input_error(file, 'numerics', 'diffusion', &
+         "must be 'none' with boundary = 'repulsive' (got '"//trim(c%diffusion)//"')")
       call check_real(file, 'numerics', 'delta', c%delta, 0.0_rp, 1.0_rp)
       call check_choice(file, 'numerics', 'kernel_correction', c%kernel_correction, &
                         [character(len=name_len) :: 'none', 'gradient', 'shepard'])
       call check_int(file, 'numerics', 'shepard_every', c%shepard_every, 1, 100000)
+      ! both corrections assume the full kernel support that a wall lacking
+      ! pressure does not give (doc/theory.md)
+      if (c%boundary == 'repulsive' .and. c%kernel_correction /= 'none') call input_error(file, 'numerics', &
+         'kernel_correction', "must be 'none' with boundary = 'repulsive' (got '"//trim(c%kernel_correction)//"')")
    end subroutine read_numerics
 
    subroutine write_numerics(u, c)

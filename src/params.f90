@@ -8,12 +8,13 @@ module params
    private
    public :: params_t, params_init, visc_artificial, visc_laminar_sps, diff_none, diff_molteni, &
              diff_fourtakas, kgc_none, kgc_gradient, kgc_shepard, integ_symplectic, &
-             integ_predictor_corrector, integ_verlet
+             integ_predictor_corrector, integ_verlet, bnd_dynamic, bnd_repulsive
 
    integer, parameter :: visc_artificial = 1, visc_laminar_sps = 2
    integer, parameter :: diff_none = 0, diff_molteni = 1, diff_fourtakas = 2
    integer, parameter :: kgc_none = 0, kgc_gradient = 1, kgc_shepard = 2
    integer, parameter :: integ_symplectic = 1, integ_predictor_corrector = 2, integ_verlet = 3
+   integer, parameter :: bnd_dynamic = 1, bnd_repulsive = 2
 
    type :: params_t
       real(rp) :: dp, h, h2, support2      !< spacing, smoothing length, h^2, (2h)^2
@@ -33,6 +34,13 @@ module params
       integer :: shepard_every
       integer :: integrator = integ_symplectic
       integer :: verlet_every
+      integer :: boundary = bnd_dynamic    !< how the fluid meets solids
+      ! repulsive boundary (doc/theory.md): A = rep_a - rep_b u_n
+      real(rp) :: rep_a = 0.0_rp           !< (10/coef)^2 0.01 c0^2 / h [m/s2]
+      real(rp) :: rep_b = 0.0_rp           !< (10/coef) c0 / h [1/s]
+      real(rp) :: rep_q0 = 1.0e-3_rp       !< bounds 1/sqrt(q) at the wall [-]
+      real(rp) :: rep_u = 0.0_rp           !< 40 / c0: weight of the approach speed in eps [s/m]
+      real(rp) :: rep_rhswl = 0.0_rp       !< 1 / h_swl: depth factor of eps [1/m]
       character(len=name_len) :: case_name
    end type params_t
 
@@ -98,5 +106,13 @@ contains
       case default; prm%integrator = integ_symplectic
       end select
       prm%verlet_every = c%numerics%verlet_every
+      select case (trim(c%numerics%boundary))
+      case ('repulsive'); prm%boundary = bnd_repulsive
+      case default; prm%boundary = bnd_dynamic
+      end select
+      prm%rep_a = (10.0_rp/c%fluid%coef)**2*0.01_rp*prm%c0**2/prm%h
+      prm%rep_b = (10.0_rp/c%fluid%coef)*prm%c0/prm%h
+      prm%rep_u = 40.0_rp/prm%c0
+      prm%rep_rhswl = 1.0_rp/prm%h_swl
    end subroutine params_init
 end module params

@@ -11,7 +11,7 @@ module scene
    use particles, only: particles_t, particles_grow
    use params, only: params_t, params_init
    use eos, only: eos_density_at_depth
-   use geom, only: point_in_polygon, nearest_edge_normal, distance_to_polygon
+   use geom, only: point_in_polygon, nearest_edge_normal, distance_to_polygon, polygon_area
    use errors, only: fatal
    implicit none
    private
@@ -43,7 +43,7 @@ contains
          if (c%objs(k)%group == 'slope') then
             call add_slope(c%objs(k), k, dp, p, c%objs(1:k - 1))
          else
-            call add_lattice(c%objs(k), k, dp, p, c%objs(1:k - 1), holes)
+            call add_lattice(c%objs(k), k, dp, p, c%objs, holes)
          end if
       end do
       call scene_bodies(c, bodies, p)
@@ -144,8 +144,8 @@ contains
 
    !> Lattice points (spacing dp, half a spacing in from the bounding box)
    !> inside the object's polygon; fluid points leave room for the bodies.
-   subroutine add_lattice(o, obj, dp, p, earlier, holes)
-      type(geom_object), intent(in) :: o, earlier(:)
+   subroutine add_lattice(o, obj, dp, p, objs, holes)
+      type(geom_object), intent(in) :: o, objs(:)
       type(outline_t), intent(in) :: holes(:)
       integer, intent(in) :: obj
       real(rp), intent(in) :: dp
@@ -162,7 +162,7 @@ contains
             pt = [x0 + (i - 0.5_rp)*dp, y0 + (j - 0.5_rp)*dp]
             if (.not. point_in_polygon(pt, o%v)) cycle columns
             if (o%role == 'solid') then
-               if (inside_earlier_solid(pt, earlier)) cycle columns
+               if (inside_earlier_solid(pt, objs(1:obj - 1))) cycle columns
             else if (in_hole(pt)) then
                cycle columns
             end if
@@ -178,10 +178,11 @@ contains
             else
                p%kind(k) = merge(kind_moving, kind_fixed, o%motion /= 'fixed')
                p%body(k) = obj
+               ! the outer layer is the surface (contact, repulsive boundary), near a
+               ! vertex a corner; a side covered by another solid is no surface
                p%nrm(:, k) = nearest_edge_normal(pt, o%v)
-               ! the outer layer is the contact surface; near a vertex it is a corner
                p%surf(k) = 0
-               if (distance_to_polygon(pt, o%v) < dp) then
+               if (exposed_edge(pt, p%nrm(:, k))) then
                   p%surf(k) = 1
                   if (minval(hypot(o%v(1, :) - pt(1), o%v(2, :) - pt(2))) < dp) p%surf(k) = 2
                end if
@@ -190,6 +191,36 @@ contains
          end do columns
       end do
    contains
+      !> Among the edges of o less than dp from pt, the nearest (the first on a
+      !> tie) whose outside one spacing away is not inside another solid: its
+      !> outward normal goes to n. False when there is none.
+      logical function exposed_edge(pt, n) result(found)
+         real(rp), intent(in) :: pt(2)
+         real(rp), intent(inout) :: n(2)
+         integer :: e, f, nv, m
+         real(rp) :: a(2), w(2), t, d, dmin, en(2), sg
+         nv = size(o%v, 2)
+         sg = sign(1.0_rp, polygon_area(o%v))
+         found = .false.
+         dmin = dp
+         edges: do e = 1, nv
+            f = modulo(e, nv) + 1
+            a = o%v(:, f) - o%v(:, e)
+            w = pt - o%v(:, e)
+            t = max(0.0_rp, min(1.0_rp, dot_product(w, a)/max(dot_product(a, a), tiny(1.0_rp))))
+            d = norm2(w - t*a)
+            if (d >= dmin - 1.0e-12_rp*dmin) cycle edges
+            en = sg*[a(2), -a(1)]/norm2(a)
+            others: do m = 1, size(objs)
+               if (m == obj .or. objs(m)%role /= 'solid') cycle others
+               if (point_in_polygon(pt + dp*en, objs(m)%v)) cycle edges
+            end do others
+            dmin = d
+            n = en
+            found = .true.
+         end do edges
+      end function exposed_edge
+
       !> Inside a body, or closer to its outline than half a spacing.
       logical function in_hole(pt)
          real(rp), intent(in) :: pt(2)

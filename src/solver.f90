@@ -13,7 +13,7 @@ module solver
    use input_check, only: int_str, real_str
    use particles, only: particles_t, particles_count_kind, particles_permute
    use params, only: params_t, params_init, visc_artificial, diff_none, kgc_gradient, kgc_shepard, &
-                     integ_verlet
+                     integ_verlet, bnd_repulsive
    use scene, only: scene_build, scene_bodies
    use body_dynamics, only: body_t, bodies_place, bodies_energy
    use contact, only: contact_t, contact_init
@@ -438,6 +438,7 @@ contains
       end if
       if (prm%kgc == kgc_gradient) fx = fx//', kernel gradient correction'
       if (prm%kgc == kgc_shepard) fx = fx//', Shepard filter every '//int_str(prm%shepard_every)//' steps'
+      if (prm%boundary == bnd_repulsive) fx = fx//', repulsive-force boundary'
       if (moving) fx = fx//', moving boundaries'
       if (size(bodies) > 0) then
          fx = fx//', '//int_str(size(bodies))//' rigid bodies, contact '//trim(cfg%contact%model)// &

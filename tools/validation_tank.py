@@ -6,9 +6,15 @@ second, the bed pressure (linear fit of the interpolated mid-tank profile,
 extrapolated to the bed) as an error against rho0 g H, and the mean fluid speed.
 
     .venv/bin/python tools/validation_tank.py
+    .venv/bin/python tools/validation_tank.py --boundary repulsive   # one run at a time
+
+With --boundary repulsive the settings are those the repulsive-force boundary
+accepts (no density diffusion, no kernel correction), with the dynamic boundary
+under the same settings for comparison.
 """
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 import tempfile
@@ -34,6 +40,11 @@ SETTINGS = {
     "h/dp = sqrt(2), gradient correction": {"kernel_correction": "gradient"},
     "h/dp = sqrt(2), Shepard filter": {"kernel_correction": "shepard"},
 }
+REPULSIVE = {
+    "repulsive, h/dp = sqrt(2)": {"boundary": "repulsive", "diffusion": "none"},
+    "repulsive, h/dp = 2": {"boundary": "repulsive", "diffusion": "none", "h_over_dp": 2.0},
+    "dynamic, h/dp = sqrt(2), no diffusion": {"diffusion": "none"},
+}
 
 
 def run(name: str, tmp: Path) -> tuple[str, list[float], float]:
@@ -57,7 +68,15 @@ def run(name: str, tmp: Path) -> tuple[str, list[float], float]:
 
 
 def main() -> None:
-    with tempfile.TemporaryDirectory() as tmp, ThreadPoolExecutor(max_workers=2) as pool:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--boundary", choices=["dynamic", "repulsive"], default="dynamic")
+    args = ap.parse_args()
+    workers = 2
+    if args.boundary == "repulsive":
+        SETTINGS.clear()
+        SETTINGS.update(REPULSIVE)
+        workers = 1
+    with tempfile.TemporaryDirectory() as tmp, ThreadPoolExecutor(max_workers=workers) as pool:
         rows = list(pool.map(lambda n: run(n, Path(tmp)), SETTINGS))
     print(f"{'setting':40s} {'bed error, mean [%]':>20s} {'range [%]':>16s} {'mean speed / sqrt(gH)':>22s}")
     for name, errors, speed in rows:
