@@ -31,6 +31,9 @@ module contact
       real(rp) :: v_stick = 1.0e-3_rp
       real(rp) :: max_penetration = 0.0_rp  !< largest overlap of two surfaces in the last evaluation [m]
       real(rp) :: dt_limit = huge(1.0_rp)   !< stable step for the stiffest contact of the last evaluation [s]
+      ! Hertz: restitution e(alpha) of the damped Hertz spring on a grid of the
+      ! damping number alpha (tsuji_table), inverted by interpolation
+      real(rp), allocatable :: tab_alpha(:), tab_e(:)
       logical, allocatable :: cand(:)
       ! pairs of the last sweep (Eq. 2-6 models), gathered before the forces
       ! are applied: the slip of the friction is taken at the contact centre
@@ -40,6 +43,7 @@ module contact
       real(rp), allocatable :: pn(:, :), pw(:), pq(:)
       integer, allocatable :: kid(:, :)
       real(rp), allocatable :: kx(:, :), kw(:)
+      real(rp), allocatable :: kt(:, :)     !< Hertz: sum of sqrt(overlap) n n^T per pair of bodies (xx, xy, yy)
    end type contact_t
 
 contains
@@ -67,7 +71,76 @@ contains
       ct%r_f = cfg%r_f
       ct%q0 = cfg%q0
       ct%v_stick = cfg%stick_velocity
+      if (ct%model == model_hertz) call tsuji_table(ct)
    end subroutine contact_init
+
+   !> Restitution of one Hertz contact with the damping of Tsuji et al.
+   !> (1992), m d'' = -k d^(3/2) - alpha sqrt(m k) d^(1/4) d', force never
+   !> pulling, for alpha on a grid. In the units m = k = 1 and an impact
+   !> speed of 1 the rebound speed is e; e depends on alpha alone, not on
+   !> the speed, the mass or the stiffness (the d^(1/4) damping is what makes
+   !> it so), so one table serves every contact.
+   subroutine tsuji_table(ct)
+      type(contact_t), intent(inout) :: ct
+      integer, parameter :: na = 400
+      real(rp), parameter :: alpha_max = 15.0_rp, ddt = 2.0e-3_rp
+      integer :: k, m
+      real(rp) :: a, d, v, k1(2), k2(2), k3(2), k4(2)
+      allocate (ct%tab_alpha(0:na), ct%tab_e(0:na))
+      do k = 0, na
+         ! dense near alpha = 0, where e changes fastest
+         a = alpha_max*(real(k, rp)/na)**2
+         d = 0.0_rp
+         v = 1.0_rp
+         steps: do m = 1, 10000000
+            k1 = rate(d, v)
+            k2 = rate(d + 0.5_rp*ddt*k1(1), v + 0.5_rp*ddt*k1(2))
+            k3 = rate(d + 0.5_rp*ddt*k2(1), v + 0.5_rp*ddt*k2(2))
+            k4 = rate(d + ddt*k3(1), v + ddt*k3(2))
+            d = d + ddt*(k1(1) + 2.0_rp*k2(1) + 2.0_rp*k3(1) + k4(1))/6.0_rp
+            v = v + ddt*(k1(2) + 2.0_rp*k2(2) + 2.0_rp*k3(2) + k4(2))/6.0_rp
+            if (d < 0.0_rp .and. v < 0.0_rp) exit steps
+         end do steps
+         ct%tab_alpha(k) = a
+         ct%tab_e(k) = -v
+      end do
+   contains
+      pure function rate(d, v) result(r)
+         real(rp), intent(in) :: d, v
+         real(rp) :: r(2)
+         r(1) = v
+         r(2) = 0.0_rp
+         if (d > 0.0_rp) r(2) = -max(d**1.5_rp + a*d**0.25_rp*v, 0.0_rp)
+      end function rate
+   end subroutine tsuji_table
+
+   !> Damping number alpha that gives restitution e (the table is monotone).
+   pure real(rp) function tsuji_alpha(ct, e) result(a)
+      type(contact_t), intent(in) :: ct
+      real(rp), intent(in) :: e
+      integer :: lo, hi, mid
+      real(rp) :: w
+      lo = 0
+      hi = size(ct%tab_e) - 1
+      if (e >= ct%tab_e(lo)) then
+         a = 0.0_rp
+         return
+      end if
+      if (e <= ct%tab_e(hi)) then
+         a = ct%tab_alpha(hi)
+         return
+      end if
+      do while (hi - lo > 1)                   ! tab_e falls with alpha
+         mid = (lo + hi)/2
+         if (ct%tab_e(mid) > e) then
+            lo = mid
+         else
+            hi = mid
+         end if
+      end do
+      w = (ct%tab_e(lo) - e)/(ct%tab_e(lo) - ct%tab_e(hi))
+      a = (1.0_rp - w)*ct%tab_alpha(lo) + w*ct%tab_alpha(hi)
+   end function tsuji_alpha
 
    !> Contact forces and torques on every body (f_normal, t_normal, f_fric,
    !> t_fric); for the dynamic model also the density rates of the pair.
@@ -165,40 +238,64 @@ contains
       end subroutine pair_dynamic
 
       !> Hertz contact of the particles as spheres of diameter dp (Canelas et
-      !> al. 2016 form), first pass: the overlapping pairs, counted per pair of
-      !> touching bodies.
+      !> al. 2016 form), first pass: the overlapping pairs, and per pair of
+      !> touching bodies the sums of sqrt(overlap) n and sqrt(overlap) n n^T,
+      !> which give the contact's normal and its stiffness along it.
       subroutine pair_hertz(i, j, bi, bj, d, r2)
          integer, intent(in) :: i, j, bi, bj
          real(rp), intent(in) :: d(2), r2
-         real(rp) :: overlap
+         real(rp) :: overlap, n(2), w, un, kn, dmax
          integer :: k
+         ! resolve the coming impact from before the first touch: its duration
+         ! for one pair meeting at the approach speed un (Hertz) is
+         ! 2.94 dmax/|un|, dmax = (5/4 M un^2/kn)^(2/5); take 40 steps or more
+         un = dot_product(p%v(:, i) - p%v(:, j), d)/sqrt(r2)
+         if (un < 0.0_rp) then
+            kn = 4.0_rp/(3.0_rp*tau_pair(bi, bj))*sqrt(0.25_rp*prm%dp)
+            dmax = (1.25_rp*body_mass(bi, bj)*un*un/kn)**0.4_rp
+            ct%dt_limit = min(ct%dt_limit, 2.94_rp*dmax/(40.0_rp*abs(un)))
+         end if
          overlap = prm%dp - sqrt(r2)
          if (overlap <= 0.0_rp) return
          ct%max_penetration = max(ct%max_penetration, overlap)
          k = key_of(p%body(i), p%body(j))
-         ct%kw(k) = ct%kw(k) + 1.0_rp
-         call store_pair(i, j, bi, bj, d/sqrt(r2), overlap, 0.0_rp, k)
+         n = d/sqrt(r2)
+         w = sqrt(overlap)
+         ct%kw(k) = ct%kw(k) + w
+         ! oriented from the lower body id to the higher, whichever of the two
+         ! particles the sweep calls i
+         ct%kx(:, k) = ct%kx(:, k) + merge(w, -w, p%body(i) > p%body(j))*n
+         ct%kt(:, k) = ct%kt(:, k) + w*[n(1)*n(1), n(1)*n(2), n(2)*n(2)]
+         call store_pair(i, j, bi, bj, n, overlap, 0.0_rp, k)
       end subroutine pair_hertz
 
-      !> Second pass: the body mass shared among the pairs of a contact sets
-      !> each pair's damping, so that the contact as a whole rebounds with the
-      !> restitution coefficient whatever the number of particle pairs.
+      !> Second pass. The contact of two bodies is one damped spring along its
+      !> normal N (the sqrt(overlap)-weighted mean of the pair normals): its
+      !> tangent stiffness along N is S = sum 3/2 kn sqrt(overlap) (n.N)^2 and
+      !> its damping along N is alpha sqrt(M S / (3/2)), Tsuji's form with
+      !> alpha for the set restitution (tsuji_table). The damping is shared
+      !> among the pairs in proportion to their stiffness 3/2 kn sqrt(overlap),
+      !> so that a single pair along N gets Tsuji's damping exactly and pairs
+      !> that meet at a slant (particles between two of the other row) damp
+      !> the motion along N as much as they resist it.
       subroutine apply_hertz_pairs()
-         integer :: m, i, j, bi, bj
-         real(rp) :: overlap, n(2), ul, kn, gn, mstar, lne, fn, kstiff, vij(2)
+         integer :: m, i, j, bi, bj, k
+         real(rp) :: overlap, n(2), ul, kn, gn, mc, fn, sk, sn, nn(2), vij(2)
          do m = 1, ct%np
             i = ct%pij(1, m); j = ct%pij(2, m); bi = ct%pb(1, m); bj = ct%pb(2, m)
-            n = ct%pn(:, m); overlap = ct%pw(m)
+            n = ct%pn(:, m); overlap = ct%pw(m); k = ct%pkey(m)
             vij = p%v(:, i) - p%v(:, j)
             ul = dot_product(vij, n)
             kn = 4.0_rp/(3.0_rp*tau_pair(bi, bj))*sqrt(0.25_rp*prm%dp)
-            mstar = body_mass(bi, bj)/ct%kw(ct%pkey(m))
-            lne = log(restitution(bi, bj))
-            gn = -2.0_rp*lne*sqrt(mstar*kn)/sqrt(pi**2 + lne**2)
-            fn = max(kn*overlap**1.5_rp - gn*overlap**0.25_rp*ul, 0.0_rp)
-            call viscous(i, j, bi, bj, gn*overlap**0.25_rp)
-            kstiff = 1.5_rp*kn*sqrt(overlap)
-            ct%dt_limit = min(ct%dt_limit, 0.2_rp*sqrt(mstar/max(kstiff, tiny(1.0_rp))))
+            mc = body_mass(bi, bj)
+            sk = 1.5_rp*kn*sqrt(overlap)
+            nn = ct%kx(:, k)/max(norm2(ct%kx(:, k)), tiny(1.0_rp))
+            sn = 1.5_rp*kn*max(ct%kt(1, k)*nn(1)**2 + 2.0_rp*ct%kt(2, k)*nn(1)*nn(2) + ct%kt(3, k)*nn(2)**2, &
+                               1.0e-3_rp*ct%kw(k))
+            gn = tsuji_alpha(ct, restitution(bi, bj))*sqrt(mc/(1.5_rp*sn))*sk
+            fn = max(kn*overlap**1.5_rp - gn*ul, 0.0_rp)
+            call viscous(i, j, bi, bj, gn)
+            ct%dt_limit = min(ct%dt_limit, 0.2_rp*sqrt(mc/(1.5_rp*kn*ct%kw(k))))
             call apply(i, j, bi, bj, fn*n, .true.)
             call friction(i, j, bi, bj, n, fn, vij)
          end do
@@ -298,16 +395,18 @@ contains
          do k = 1, ct%nk
             if (ct%kid(1, k) == lo .and. ct%kid(2, k) == hi) return
          end do
-         if (.not. allocated(ct%kid)) allocate (ct%kid(2, 16), ct%kx(2, 16), ct%kw(16))
+         if (.not. allocated(ct%kid)) allocate (ct%kid(2, 16), ct%kx(2, 16), ct%kw(16), ct%kt(3, 16))
          if (ct%nk == size(ct%kw)) then
             ct%kid = reshape([ct%kid, spread(0, 1, 2*ct%nk)], [2, 2*ct%nk])
             ct%kx = reshape([ct%kx, spread(0.0_rp, 1, 2*ct%nk)], [2, 2*ct%nk])
+            ct%kt = reshape([ct%kt, spread(0.0_rp, 1, 3*ct%nk)], [3, 2*ct%nk])
             ct%kw = [ct%kw, spread(0.0_rp, 1, ct%nk)]
          end if
          ct%nk = ct%nk + 1
          k = ct%nk
          ct%kid(:, k) = [lo, hi]
          ct%kx(:, k) = 0.0_rp
+         ct%kt(:, k) = 0.0_rp
          ct%kw(k) = 0.0_rp
       end function key_of
 

@@ -191,10 +191,10 @@ HERTZ = """&run case_name='hertz', t_end=0.3, dt_out=0.1, energy_interval=0.0005
 """
 
 
-@pytest.mark.parametrize("e", [0.9])
+@pytest.mark.parametrize("e", [0.5, 0.9])
 def test_hertz_restitution(e: float, tmp_path: Path, mbsph: Path) -> None:
-    """A disc dropped on a wall rebounds with the set restitution (e = 0.5 is not met
-    yet: 0.62 is measured, see doc/contact.md)."""
+    """A disc dropped on a wall rebounds with the set restitution: the largest upward
+    speed after the impact over the largest downward speed before it."""
     proc, out = run_case(HERTZ.format(e=e), tmp_path, binary=mbsph)
     assert_ok(proc)
     s = body(read_csv(out / "bodies.csv"), 1)
