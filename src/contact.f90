@@ -567,24 +567,29 @@ contains
    end subroutine contact_body_limits
 
    !> The contact table (weighted centre and weight of each pair of touching
-   !> bodies) summed over the ranks, in rank order, so that every rank that
-   !> holds a pair of the contact sees the same centre.
+   !> bodies, and the Hertz normal tensor) summed over the ranks, in rank
+   !> order, so that every rank that holds a pair of the contact sees the same
+   !> centre, normal and stiffness.
    subroutine merge_keys(ct)
       type(contact_t), intent(inout) :: ct
+      integer, parameter :: nv = 8           ! per key: two ids, kx(2), kw, kt(3)
       real(rp), allocatable :: mine(:), all(:)
-      integer :: k, m
-      allocate (mine(5*ct%nk))
+      integer :: k, m, o
+      allocate (mine(nv*ct%nk))
       do k = 1, ct%nk
-         mine(5*k - 4:5*k) = [real(ct%kid(1, k), rp), real(ct%kid(2, k), rp), ct%kx(:, k), ct%kw(k)]
+         mine(nv*(k - 1) + 1:nv*k) = [real(ct%kid(1, k), rp), real(ct%kid(2, k), rp), ct%kx(:, k), ct%kw(k), ct%kt(:, k)]
       end do
       call comm_allgatherv(mine, all)
       do k = 1, ct%nk
          ct%kx(:, k) = 0.0_rp
          ct%kw(k) = 0.0_rp
-         entries: do m = 1, size(all)/5
-            if (nint(all(5*m - 4)) /= ct%kid(1, k) .or. nint(all(5*m - 3)) /= ct%kid(2, k)) cycle entries
-            ct%kx(:, k) = ct%kx(:, k) + all(5*m - 2:5*m - 1)
-            ct%kw(k) = ct%kw(k) + all(5*m)
+         ct%kt(:, k) = 0.0_rp
+         entries: do m = 1, size(all)/nv
+            o = nv*(m - 1)
+            if (nint(all(o + 1)) /= ct%kid(1, k) .or. nint(all(o + 2)) /= ct%kid(2, k)) cycle entries
+            ct%kx(:, k) = ct%kx(:, k) + all(o + 3:o + 4)
+            ct%kw(k) = ct%kw(k) + all(o + 5)
+            ct%kt(:, k) = ct%kt(:, k) + all(o + 6:o + 8)
          end do entries
       end do
    end subroutine merge_keys

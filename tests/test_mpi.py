@@ -133,6 +133,7 @@ MODELS = {
     "shepard": {"kernel_correction": "shepard", "shepard_every": 20},
     "verlet": {"integrator": "verlet"},
     "predictor_corrector": {"integrator": "predictor_corrector", "diffusion": "molteni"},
+    "repulsive_boundary": {"boundary": "repulsive", "diffusion": "none"},
 }
 
 
