@@ -19,9 +19,9 @@ matched by id) relative to each field's largest magnitude.
 model: the communication volume per step of the halo scheme (doc/parallel.md) for a
 2D flume, against particle count and ranks; no run.
 
-Each run is started with `mpirun -np P` (plus --allow-run-as-root as root and
---oversubscribe), one at a time. Measure on a quiet machine: the script prints the load
-average before each run.
+The binary is build/mbsph, or $MBSPH_BINARY. Each run is started with `mpirun -np P`
+(plus --allow-run-as-root as root and --oversubscribe), one at a time. Measure on a
+quiet machine: the script prints the load average before each run.
 """
 import argparse
 import math
@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
+BINARY = Path(os.environ.get("MBSPH_BINARY", ROOT / "build" / "mbsph"))
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
@@ -49,7 +50,7 @@ def mpirun(ranks: int) -> list[str]:
 
 def run(case: Path, ranks: int) -> str:
     load = os.getloadavg()[0]
-    proc = subprocess.run(mpirun(ranks) + [str(ROOT / "build" / "mbsph"), case.name], cwd=case.parent,
+    proc = subprocess.run(mpirun(ranks) + [str(BINARY), case.name], cwd=case.parent,
                           capture_output=True, text=True)
     if proc.returncode != 0:
         sys.exit(f"run failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")

@@ -34,7 +34,7 @@ module solver
    use io_checkpoint, only: checkpoint_write, checkpoint_read
    use logger, only: log_open, log_close, log_line, log_progress
    use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup
-   use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max
+   use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max, comm_allgather
    use errors, only: fatal, input_error
    implicit none
    private
@@ -476,12 +476,19 @@ contains
 
    subroutine summary()
       real(rp) :: wall, tt
-      integer :: k
+      integer :: k, counts(comm_size())
       character(len=128) :: line
       wall = comm_wtime() - st%wall0
+      call comm_allgather(p%n_own, counts)
       call log_line('done: t = '//real_str(st%t)//' s after '//int_str(st%istep)//' steps; fluid particles lost: '// &
                     int_str(st%lost_domain + st%lost_density))
-      call log_line('wall time by phase [s]:')
+      if (comm_size() > 1) then
+         write (line, '("ranks: ",i0,", particles per rank ",i0," to ",i0," (largest ",f0.1, &
+               &" % above the mean)")') comm_size(), minval(counts), maxval(counts), &
+            100.0_rp*(maxval(counts)*comm_size()/real(max(sum(counts), 1), rp) - 1.0_rp)
+         call log_line(trim(line))
+      end if
+      call log_line('wall time by phase [s] (rank 0):')
       do k = 1, n_timers
          tt = timer_get(k)
          write (line, '(4x,a12,f12.3,f8.1," %")') timer_label(k), tt, 100.0_rp*tt/max(wall + timer_get(t_setup), 1.0e-9_rp)
