@@ -667,12 +667,13 @@ def wavemaker_settings(nml) -> dict:
     out: dict = {}
     if group is None:
         return out
+    # the effective namelist lists every variable: height and hs are both there, one of them 0
     for key in ("h", "height", "hs", "wave_height"):
-        if key in group:
+        if key in group and isinstance(group[key], (int, float)) and float(group[key]) > 0:
             out["H"] = float(group[key])
             break
     for key in ("period", "t", "tp", "wave_period"):
-        if key in group:
+        if key in group and isinstance(group[key], (int, float)) and float(group[key]) > 0:
             out["T"] = float(group[key])
             break
     for key in ("kind", "type", "wave_type", "wave"):

@@ -3,13 +3,20 @@
 module input
    use kinds, only: rp
    use constants, only: path_len, msg_len
-   use input_check, only: scan_groups, real_str
+   use input_check, only: scan_groups, real_str, int_str
    use input_run, only: run_cfg, read_run, write_run
    use input_domain, only: domain_cfg, read_domain, write_domain
    use input_fluid, only: fluid_cfg, read_fluid, write_fluid
    use input_numerics, only: numerics_cfg, read_numerics, write_numerics
    use input_geometry, only: geom_object, read_geometry, write_geometry
    use input_body, only: body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
+   use input_wave, only: wavemaker_cfg, gauge_cfg, damping_cfg, read_wavemaker, write_wavemaker, read_gauges, &
+                         write_gauges, read_damping, write_damping
+   use input_breakwater, only: breakwater_cfg, armour_cfg, read_breakwater, write_breakwater, read_armour, &
+                               write_armour
+   use scene_flume, only: armour_layer_t, paddle_object, breakwater_objects, armour_units
+   use wave_theory, only: wave_number, piston_transfer, flap_transfer, miche_limit, piston_second_order
+   use constants, only: pi
    use body_shapes, only: body_outline
    use geom, only: polygons_overlap
    use errors, only: input_error, fatal
@@ -26,6 +33,12 @@ module input
       type(geom_object), allocatable :: objs(:)
       type(body_cfg), allocatable :: bodies(:)
       type(contact_cfg) :: contact
+      type(wavemaker_cfg) :: wavemaker
+      type(gauge_cfg), allocatable :: gauges(:)
+      type(damping_cfg) :: damping
+      type(breakwater_cfg) :: breakwater
+      type(armour_cfg) :: armour
+      type(armour_layer_t) :: layer           !< the armour layer as generated
    end type case_cfg
 
 contains
@@ -45,9 +58,16 @@ contains
       call read_geometry(file, c%numerics%dp, c%numerics%h_over_dp*c%numerics%dp, c%objs)
       call read_bodies(file, c%numerics%dp, c%bodies)
       call read_contact(file, c%contact)
+      call read_breakwater(file, c%breakwater)
+      call read_armour(file, c%numerics%dp, c%armour)
+      call read_wavemaker(file, c%wavemaker, c%breakwater)
+      call read_gauges(file, c%gauges)
+      call read_damping(file, c%damping)
+      call expand_flume(c)
 
       tol = 1.0e-9_rp*max(abs(c%domain%xmax - c%domain%xmin), abs(c%domain%ymax - c%domain%ymin))
       do i = 1, size(c%objs)
+         if (c%objs(i)%generated) cycle     ! their generators check them (scene_flume, check_waves)
          gi = obj_name(c%objs(i))
          associate (v => c%objs(i)%v)
             if (minval(v(1, :)) < c%domain%xmin - tol .or. maxval(v(1, :)) > c%domain%xmax + tol .or. &
@@ -72,7 +92,109 @@ contains
          end do others
       end do
       call check_bodies(c, tol)
+      call check_waves(c)
    end subroutine read_case
+
+   !> The breakwater, its armour and the paddle become objects and bodies
+   !> like any other (after the user's own, so the user's solids come first).
+   subroutine expand_flume(c)
+      type(case_cfg), intent(inout) :: c
+      type(geom_object), allocatable :: more(:)
+      type(body_cfg), allocatable :: units(:)
+      real(rp) :: h
+      h = c%numerics%h_over_dp*c%numerics%dp
+      allocate (more(0))
+      if (c%breakwater%on) then
+         call breakwater_objects(c%file, c%breakwater, c%wavemaker%on, c%domain%xmin, c%domain%xmax, c%domain%ymin, &
+                                 c%numerics%dp, h, more)
+         call append_objects(c%objs, more)
+      end if
+      if (c%wavemaker%on) then
+         if (allocated(more)) deallocate (more)
+         allocate (more(1))
+         more(1) = paddle_object(c%wavemaker, c%numerics%dp, h)
+         call append_objects(c%objs, more)
+      end if
+      if (c%armour%on) then
+         call armour_units(c%file, c%breakwater, c%armour, units, c%layer)
+         c%layer%first = c%layer%first + size(c%bodies)
+         c%bodies = [c%bodies, units]
+      end if
+   end subroutine expand_flume
+
+   !> a = [a, b]; b is consumed.
+   subroutine append_objects(a, b)
+      type(geom_object), allocatable, intent(inout) :: a(:), b(:)
+      type(geom_object), allocatable :: t(:)
+      integer :: na
+      na = size(a)
+      allocate (t(na + size(b)))
+      t(1:na) = a
+      t(na + 1:) = b
+      call move_alloc(t, a)
+      deallocate (b)
+   end subroutine append_objects
+
+   !> Waves that the paddle can make and the flume can hold; gauges and the
+   !> damping zone inside the domain.
+   subroutine check_waves(c)
+      type(case_cfg), intent(in) :: c
+      real(rp) :: k, kd, hmax, stroke, thick, per, hh
+      integer :: i
+      character(len=*), parameter :: g = 'wavemaker'
+      character(len=:), allocatable :: gi
+      associate (wm => c%wavemaker, d => c%domain)
+         if (wm%on) then
+            thick = c%objs(size(c%objs))%box(2) - c%objs(size(c%objs))%box(1)
+            if (wm%x0 - thick - 0.5_rp*wm%max_stroke < d%xmin) call input_error(c%file, g, 'x0', &
+               'the paddle (thickness '//real_str(thick)//' m) moving +-'//real_str(0.5_rp*wm%max_stroke)// &
+               ' m (max_stroke/2) leaves the &domain: x0 must be >= '//real_str(d%xmin + thick + 0.5_rp*wm%max_stroke))
+            if (c%objs(size(c%objs))%box(4) > d%ymax) call input_error(c%file, g, 'top', 'the paddle reaches y = '// &
+               real_str(c%objs(size(c%objs))%box(4))//' m, above the &domain ymax = '//real_str(d%ymax)// &
+               ' m (top defaults to 1.5 depth above the bed)')
+            if (wm%wave /= 'file') then
+               if (wm%wave == 'regular') then
+                  per = wm%period
+                  hh = wm%height
+               else
+                  per = wm%tp
+                  hh = wm%hs
+               end if
+               k = wave_number(2.0_rp*pi/per, wm%depth, c%fluid%gravity)
+               kd = k*wm%depth
+               hmax = miche_limit(k, wm%depth)
+               if (hh > hmax) call input_error(c%file, g, merge('height', 'hs    ', wm%wave == 'regular'), &
+                  'the wave breaks at the paddle: H/L = '//real_str(hh*k/(2.0_rp*pi))//' above the limit '// &
+                  real_str(hmax*k/(2.0_rp*pi))//' (0.142 tanh kd, kd = '//real_str(kd)//'): H must be below '// &
+                  real_str(hmax)//' m at this period and depth')
+               if (wm%paddle == 'piston') then
+                  stroke = hh/piston_transfer(kd)
+               else
+                  stroke = hh/flap_transfer(kd)
+               end if
+               if (wm%second_order) stroke = stroke + 2.0_rp*abs(piston_second_order(hh, kd, wm%depth))
+               if (stroke > wm%max_stroke) call input_error(c%file, g, merge('height', 'hs    ', &
+                  wm%wave == 'regular'), 'the paddle stroke '//real_str(stroke)//' m (peak to peak) exceeds '// &
+                  'max_stroke = '//real_str(wm%max_stroke)//' m: lower the height or shorten the period')
+            end if
+         end if
+         do i = 1, size(c%gauges)
+            gi = 'gauge #'//int_str(i)
+            if (c%gauges(i)%x < d%xmin .or. c%gauges(i)%x > d%xmax) call input_error(c%file, gi, 'x', &
+               'the gauge is outside the &domain: x must be in ['//real_str(d%xmin)//', '//real_str(d%xmax)//'] m')
+            if (c%gauges(i)%kind == 'pressure' .and. (c%gauges(i)%y < d%ymin .or. c%gauges(i)%y > d%ymax)) then
+               call input_error(c%file, gi, 'y', 'the gauge is outside the &domain: y must be in ['// &
+                                real_str(d%ymin)//', '//real_str(d%ymax)//'] m')
+            end if
+         end do
+         if (c%damping%on) then
+            if (min(c%damping%x0, c%damping%x1) < d%xmin .or. max(c%damping%x0, c%damping%x1) > d%xmax) then
+               call input_error(c%file, 'damping', 'x0, x1', 'the zone must lie inside the &domain ['// &
+                                real_str(d%xmin)//', '//real_str(d%xmax)//'] m')
+            end if
+         end if
+      end associate
+   end subroutine check_waves
 
    !> Bodies inside the domain, not overlapping a wall or another body
    !> (touching is allowed; fluid is carved around them).
@@ -84,7 +206,8 @@ contains
       character(len=16) :: bi, bk
       do i = 1, size(c%bodies)
          write (bi, '(i0)') i
-         vi = body_outline(c%bodies(i))
+         if (allocated(vi)) deallocate (vi)
+         allocate (vi, source=body_outline(c%bodies(i)))
          if (minval(vi(1, :)) < c%domain%xmin - tol .or. maxval(vi(1, :)) > c%domain%xmax + tol .or. &
              minval(vi(2, :)) < c%domain%ymin - tol .or. maxval(vi(2, :)) > c%domain%ymax + tol) then
             call input_error(c%file, 'body #'//trim(bi), '', 'the body reaches outside the &domain')
@@ -98,7 +221,8 @@ contains
          end do walls
          do k = 1, i - 1
             write (bk, '(i0)') k
-            vk = body_outline(c%bodies(k))
+            if (allocated(vk)) deallocate (vk)
+            allocate (vk, source=body_outline(c%bodies(k)))
             if (polygons_overlap(vi, vk, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
               call input_error(c%file, 'body #'//trim(bi), '', 'the body overlaps &body #'//trim(bk))
             end if
@@ -130,6 +254,11 @@ contains
       call write_geometry(u, c%objs)
       call write_bodies(u, c%bodies)
       call write_contact(u, c%contact)
+      call write_breakwater(u, c%breakwater)
+      call write_armour(u, c%armour)
+      call write_wavemaker(u, c%wavemaker)
+      call write_gauges(u, c%gauges)
+      call write_damping(u, c%damping)
       close (u)
    end subroutine write_case
 end module input

@@ -31,6 +31,7 @@ module input_body
       real(rp) :: young = 2.0e10_rp                    !< Young's modulus (hertz) [Pa]
       real(rp) :: poisson = 0.2_rp                     !< Poisson ratio (hertz) [-]
       integer :: layers = 0                            !< particle layers inward (0: enough for 2h)
+      logical :: generated = .false.                   !< an armour unit made by &armour, not written back
    end type body_cfg
 
    type :: contact_cfg
@@ -138,6 +139,7 @@ contains
       type(body_cfg), intent(in) :: bodies(:)
       integer :: k
       do k = 1, size(bodies)
+         if (bodies(k)%generated) cycle
          call to_vars(bodies(k))
          write (u_, nml=body)
       end do

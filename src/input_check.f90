@@ -12,7 +12,8 @@ module input_check
              check_choice, lower, real_str, int_str
 
    character(len=*), parameter :: known_groups(*) = [character(len=16) :: &
-      'run', 'domain', 'fluid', 'numerics', 'box', 'polygon', 'slope', 'body', 'contact']
+      'run', 'domain', 'fluid', 'numerics', 'box', 'polygon', 'slope', 'body', 'contact', 'wavemaker', &
+      'gauge', 'damping', 'breakwater', 'armour']
 
 contains
 

@@ -17,9 +17,11 @@ module input_geometry
       character(len=name_len) :: group = ''         !< 'box' | 'polygon' | 'slope'
       integer :: index = 0                          !< 1 for the first group of its name, ...
       character(len=name_len) :: role = 'solid'     !< 'solid' | 'fluid'
-      character(len=name_len) :: motion = 'fixed'   !< 'fixed' | 'oscillate'
+      character(len=name_len) :: motion = 'fixed'   !< 'fixed' | 'oscillate' | 'wavemaker'
+      logical :: generated = .false.                !< made by &wavemaker or &breakwater, not written back
       real(rp) :: amplitude(2) = 0.0_rp             !< oscillation amplitude [m]
       real(rp) :: period = 1.0_rp                   !< oscillation period [s]
+      real(rp) :: hinge_depth = 0.0_rp              !< wavemaker: still-water depth above the flap hinge [m]
       integer :: nv = 0
       real(rp), allocatable :: v(:, :)              !< outline vertices (2, nv), counter-clockwise
       ! input values kept for the effective namelist
@@ -153,6 +155,7 @@ contains
       type(geom_object), intent(in) :: objs(:)
       integer :: k
       do k = 1, size(objs)
+         if (objs(k)%generated) cycle
          call defaults()
          role = objs(k)%role; motion = objs(k)%motion
          amplitude = objs(k)%amplitude; period = objs(k)%period

@@ -21,15 +21,16 @@ module input_run
       real(rp) :: progress_interval = 2.0_rp  !< wall seconds between progress lines
       real(rp) :: energy_interval = 0.0_rp    !< interval of energy.csv rows [s] (0: dt_out)
       integer :: balance_every = 100        !< steps between moves of the slab edges (0: never)
+      real(rp) :: gauge_interval = 0.01_rp    !< interval of gauges.csv rows [s]
    end type run_cfg
 
    character(len=name_len) :: case_name
-   real(rp) :: t_end, dt_out, max_lost_fraction, progress_interval, energy_interval
+   real(rp) :: t_end, dt_out, max_lost_fraction, progress_interval, energy_interval, gauge_interval
    character(len=path_len) :: out_dir
    logical :: overwrite, restart
    integer :: checkpoint_every, max_steps, balance_every
    namelist /run/ case_name, t_end, dt_out, out_dir, overwrite, restart, checkpoint_every, &
-      max_steps, max_lost_fraction, progress_interval, energy_interval, balance_every
+      max_steps, max_lost_fraction, progress_interval, energy_interval, balance_every, gauge_interval
 
 contains
 
@@ -40,6 +41,7 @@ contains
       max_steps = c%max_steps; max_lost_fraction = c%max_lost_fraction
       progress_interval = c%progress_interval; energy_interval = c%energy_interval
       balance_every = c%balance_every
+      gauge_interval = c%gauge_interval
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -49,6 +51,7 @@ contains
       c%max_steps = max_steps; c%max_lost_fraction = max_lost_fraction
       c%progress_interval = progress_interval; c%energy_interval = energy_interval
       c%balance_every = balance_every
+      c%gauge_interval = gauge_interval
    end subroutine from_vars
 
    subroutine read_run(file, c)
@@ -75,6 +78,7 @@ contains
       call check_real(file, 'run', 'progress_interval', c%progress_interval, 0.0_rp, huge(1.0_rp))
       call check_real(file, 'run', 'energy_interval', c%energy_interval, 0.0_rp, huge(1.0_rp))
       call check_int(file, 'run', 'balance_every', c%balance_every, 0, huge(1))
+      call check_real(file, 'run', 'gauge_interval', c%gauge_interval, 0.0_rp, huge(1.0_rp), lo_open=.true.)
    end subroutine read_run
 
    subroutine write_run(u, c)

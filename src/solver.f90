@@ -36,6 +36,10 @@ module solver
    use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup
    use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max, comm_allgather
    use errors, only: fatal, input_error
+   use wave_paddle, only: paddle_init
+   use wave_damping, only: damping_apply
+   use probe_gauges, only: gauges_open, gauges_sample, gauges_close
+   use io_armour, only: armour_csv_write
    implicit none
    private
    public :: solver_run
@@ -54,6 +58,8 @@ module solver
    integer :: n_global = 0                   !< particles on all ranks
    integer :: n_kind(4) = 0                  !< particles of each kind at the start, all ranks
    logical :: moving = .false.               !< the case has moving walls
+   real(rp) :: t_next_gauge = 0.0_rp
+   character(len=:), allocatable :: wave_report
 
 contains
 
@@ -76,8 +82,10 @@ contains
       do while (.not. done)
          call neighbours()
          call step_advance(prm, g, p, w, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt)
+         if (cfg%damping%on) call damping_apply(cfg%damping, p, st%dt)
          st%t = st%t + st%dt
          st%istep = st%istep + 1
+         call gauges_due()
          st%particle_steps = st%particle_steps + n_global
          call check_state(dt_floor)
          done = finished()
@@ -87,13 +95,7 @@ contains
                                st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp))
             written = st%t >= st%t_next_snap - cfg%run%dt_out   ! a snapshot of this very step exists
          end if
-         if (cfg%run%checkpoint_every > 0) then
-            if (mod(st%istep, cfg%run%checkpoint_every) == 0 .and. .not. done) then
-               call timer_start(t_output)
-               call checkpoint_write(out, p, st, bodies)
-               call timer_stop(t_output)
-            end if
-         end if
+         if (.not. done) call checkpoint_due()
          if (comm_wtime() - wall_last >= cfg%run%progress_interval .or. done) then
             call progress()
             wall_last = comm_wtime()
@@ -107,6 +109,7 @@ contains
       call summary()
       call energy_close()
       call bodies_csv_close()
+      call gauges_close()
       call h5_stop()
       call log_close()
    end subroutine solver_run
@@ -124,6 +127,7 @@ contains
       call comm_barrier()
       call log_open(out//'/run.log', c%run%restart)
       call h5_start()
+      call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, wave_report)
       if (c%run%restart) then
          call scene_bodies(c, bodies)
          call checkpoint_read(out, p, st, bodies, counts, edges)
@@ -162,10 +166,43 @@ contains
       if (c%run%restart) then
          call snapshot_index_rebuild(out, st%isnap)
       else
+         if (comm_rank() == 0) call armour_csv_write(out, c)
          call write_outputs(.true., .true.)
       end if
+      call gauges_start()
       call timer_stop(t_setup)
    end subroutine setup
+
+   !> A checkpoint every checkpoint_every steps, when asked for.
+   subroutine checkpoint_due()
+      if (cfg%run%checkpoint_every <= 0) return
+      if (mod(st%istep, cfg%run%checkpoint_every) /= 0) return
+      call timer_start(t_output)
+      call checkpoint_write(out, p, st, bodies)
+      call timer_stop(t_output)
+   end subroutine checkpoint_due
+
+   !> gauges.csv (rank 0's; cut back on restart) and, for a new run, its
+   !> first row. The gauges need the particles sorted by cell.
+   subroutine gauges_start()
+      if (size(cfg%gauges) == 0) return
+      if (comm_rank() == 0) call gauges_open(out, cfg%gauges, cfg%run%restart, st%t)
+      t_next_gauge = (floor(st%t/cfg%run%gauge_interval + 1.0e-9_rp) + 1)*cfg%run%gauge_interval
+      if (cfg%run%restart) return
+      drop = .false.
+      call grid_sort(g, p, drop, cells=size(bodies) > 0)
+      call gauges_sample(st%t, cfg%gauges, prm, g, p)
+   end subroutine gauges_start
+
+   !> A gauges.csv row when one is due.
+   subroutine gauges_due()
+      if (size(cfg%gauges) == 0) return
+      if (st%t < t_next_gauge*(1.0_rp - 1.0e-12_rp)) return
+      call timer_start(t_output)
+      call gauges_sample(st%t, cfg%gauges, prm, g, p)
+      t_next_gauge = (floor(st%t/cfg%run%gauge_interval + 1.0e-9_rp) + 1)*cfg%run%gauge_interval
+      call timer_stop(t_output)
+   end subroutine gauges_due
 
    !> Before a step: slab edges (every balance_every steps), removals,
    !> migration, the sort by cell, the halo, the Shepard filter when due.
@@ -440,6 +477,11 @@ contains
       if (prm%kgc == kgc_shepard) fx = fx//', Shepard filter every '//int_str(prm%shepard_every)//' steps'
       if (prm%boundary == bnd_repulsive) fx = fx//', repulsive-force boundary'
       if (moving) fx = fx//', moving boundaries'
+      if (cfg%wavemaker%on) fx = fx//', wavemaker ('//trim(cfg%wavemaker%paddle)//', '//trim(cfg%wavemaker%wave)//')'
+      if (cfg%damping%on) fx = fx//', damping zone x = '//real_str(cfg%damping%x0)//' to '//real_str(cfg%damping%x1)// &
+                               ' m'
+      if (size(cfg%gauges) > 0) fx = fx//', '//int_str(size(cfg%gauges))//' gauges every '// &
+                                     real_str(cfg%run%gauge_interval)//' s'
       if (size(bodies) > 0) then
          fx = fx//', '//int_str(size(bodies))//' rigid bodies, contact '//trim(cfg%contact%model)// &
               ' (c0 '//real_str(ct%c)//' m/s, r_f '//real_str(ct%r_f)//')'
@@ -447,6 +489,11 @@ contains
       end if
       if (prm%integrator == integ_verlet) fx = fx//', Verlet Euler step every '//int_str(prm%verlet_every)
       call log_line('  effects on: '//fx)
+      if (len(wave_report) > 0) call log_line(wave_report)
+      if (cfg%armour%on) call log_line('  armour: '//int_str(cfg%layer%n_units)//' '//trim(cfg%armour%placement)// &
+         ' units of dn = '//real_str(cfg%armour%dn)//' m, density '//real_str(cfg%armour%density)// &
+         ' kg/m3 on a slope of '//real_str(cfg%layer%alpha*57.29577951308232_rp)//' deg, porosity '// &
+         real_str(cfg%layer%porosity)//' (target '//real_str(cfg%armour%porosity)//')')
       call log_line('  output: '//out//', snapshot every '//real_str(cfg%run%dt_out)//' s until t = '// &
                     real_str(cfg%run%t_end)//' s')
    end subroutine banner

@@ -1,0 +1,128 @@
+"""Wave-flume case files: a paddle in constant depth, gauges along the flume and a
+damping zone at the far end, laid out in wavelengths of the target wave.
+
+``python -m post.wave_cases --kh 1.2 --out input/waves/regular_kh12.nml`` writes one;
+the tests of tests/test_waves.py build theirs with :func:`flume_case`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+G = 9.81
+
+
+def wave_number(omega: float, depth: float, g: float = G) -> float:
+    """Linear dispersion w^2 = g k tanh(k d), solved by Newton iteration."""
+    k = omega * omega / g / math.sqrt(math.tanh(omega * omega * depth / g))
+    for _ in range(50):
+        f = g * k * math.tanh(k * depth) - omega * omega
+        df = g * math.tanh(k * depth) + g * k * depth / math.cosh(k * depth) ** 2
+        k -= f / df
+    return k
+
+
+def period_for_kh(kh: float, depth: float, g: float = G) -> float:
+    k = kh / depth
+    return 2.0 * math.pi / math.sqrt(g * k * math.tanh(kh))
+
+
+@dataclass
+class Flume:
+    """Layout of a flume case, in metres and seconds."""
+
+    text: str
+    period: float
+    length: float          # wavelength L
+    height: float
+    depth: float
+    x0: float              # paddle face at rest
+    gauges: list[float]    # x of the elevation gauges
+    t_end: float
+    damping: tuple[float, float]
+
+
+def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: float = 0.0125,
+               paddle: str = "piston", out_dir: str = "OUT/waves", gauges_at=(2.0, 2.25, 2.5, 2.75, 3.0),
+               damping_len: float = 1.5, periods_after: float = 4.0, extra_run: str = "",
+               extra_numerics: str = "", case_name: str = "waves", second_order: bool = False,
+               ramp_periods: float = 2.0) -> Flume:
+    """A regular-wave flume: the paddle, then gauges at the given multiples of the
+    wavelength L, then a damping zone damping_len L long. The run lasts until the
+    wave front (group speed) has passed the last gauge and periods_after more periods."""
+    T = period_for_kh(kh, depth)
+    k = kh / depth
+    L = 2.0 * math.pi / k
+    H = steepness * L
+    n1 = 0.5 * (1.0 + 2.0 * kh / math.sinh(2.0 * kh))
+    cg = n1 * L / T
+    layers = math.ceil(2.0 * 1.4142135623730951 - 1e-9)
+    thick = layers * dp
+    x0 = 0.1 + thick
+    x_end = x0 + (max(gauges_at) + 0.25 + damping_len) * L
+    x_end = x0 + math.ceil((x_end - x0) / dp) * dp
+    gx = [x0 + a * L for a in gauges_at]
+    t_end = ramp_periods * T + (max(gauges_at) * L) / cg + periods_after * T
+    damp = (x0 + (max(gauges_at) + 0.25) * L, x_end)
+    top = 2.0 * depth
+    gauges = "\n".join(f"&gauge kind = 'elevation', x = {x:.6f} /" for x in gx)
+    text = f"""! Regular waves from a {paddle} paddle in constant depth: kh = {kh}, depth {depth} m,
+! T = {T:.6f} s, L = {L:.6f} m, H = {H:.6f} m (steepness H/L = {steepness}).
+! Gauges at {', '.join(str(a) for a in gauges_at)} wavelengths from the paddle; damping zone
+! over the last {damping_len} L. Made by post/wave_cases.py.
+&run
+  case_name = '{case_name}'
+  t_end = {t_end:.6f}
+  dt_out = {max(T / 2.0, 0.1):.6f}
+  out_dir = '{out_dir}'
+  overwrite = .true.
+  gauge_interval = {T / 40.0:.6f}
+{extra_run}
+/
+&domain
+  xmin = 0.0, xmax = {x_end + 0.01:.6f}, ymin = {-thick - 0.01:.6f}, ymax = {top + 0.05:.6f}
+/
+&fluid
+  rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = {G}
+/
+&numerics
+  dp = {dp}
+  viscosity = 'artificial', alpha = 0.01
+  diffusion = 'fourtakas', delta = 0.1
+{extra_numerics}
+/
+&box role = 'solid', xmin = 0.0, xmax = {x_end + 0.01:.6f}, ymin = {-thick:.6f}, ymax = 0.0 /
+&box role = 'solid', xmin = {x_end:.6f}, xmax = {x_end + 0.01:.6f}, ymin = 0.0, ymax = {top:.6f} /
+&box role = 'fluid', xmin = {x0:.6f}, xmax = {x_end:.6f}, ymin = 0.0, ymax = {depth:.6f} /
+&wavemaker
+  paddle = '{paddle}', wave = 'regular', x0 = {x0:.6f}, depth = {depth}
+  height = {H:.6f}, period = {T:.6f}, ramp_periods = {ramp_periods}
+  second_order = {'.true.' if second_order else '.false.'}
+/
+{gauges}
+&damping x0 = {damp[0]:.6f}, x1 = {damp[1]:.6f}, strength = {max(10.0, 10.0 / T):.3f} /
+"""
+    return Flume(text, T, L, H, depth, x0, gx, t_end, damp)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--kh", type=float, required=True)
+    ap.add_argument("--depth", type=float, default=0.25)
+    ap.add_argument("--steepness", type=float, default=0.03)
+    ap.add_argument("--dp", type=float, default=0.0125)
+    ap.add_argument("--paddle", choices=("piston", "flap"), default="piston")
+    ap.add_argument("--out-dir", default="OUT/waves")
+    ap.add_argument("--out", type=Path, required=True, help="case file to write")
+    a = ap.parse_args()
+    f = flume_case(a.kh, depth=a.depth, steepness=a.steepness, dp=a.dp, paddle=a.paddle, out_dir=a.out_dir)
+    a.out.parent.mkdir(parents=True, exist_ok=True)
+    a.out.write_text(f.text)
+    print(f"{a.out}: T = {f.period:.4f} s, L = {f.length:.4f} m, H = {f.height:.4f} m, t_end = {f.t_end:.2f} s")
+
+
+if __name__ == "__main__":
+    main()

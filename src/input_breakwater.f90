@@ -1,0 +1,149 @@
+!> &breakwater (the flume bed, the foreshore and a rubble-mound breakwater
+!> with its still water) and &armour (a single layer of cubes on the front
+!> slope). Both are expanded into geometry objects and bodies by scene_flume.
+module input_breakwater
+   use kinds, only: rp
+   use constants, only: name_len, msg_len
+   use input_check, only: open_case, read_failed, check_real, check_int, check_choice, group_count
+   use errors, only: input_error
+   implicit none
+   private
+   public :: breakwater_cfg, armour_cfg, read_breakwater, write_breakwater, read_armour, write_armour
+
+   !> Lengths in metres, angles in degrees; the bed at the paddle is y = 0.
+   type :: breakwater_cfg
+      logical :: on = .false.
+      real(rp) :: x_start = 0.0_rp          !< paddle face at rest, where the water starts [m]
+      real(rp) :: depth = 0.6_rp            !< still-water depth at the paddle [m]
+      real(rp) :: toe_depth = 0.2_rp        !< still-water depth at the toe of the breakwater [m]
+      real(rp) :: flat_length = 1.0_rp      !< flat bed between the paddle and the foreshore [m]
+      real(rp) :: foreshore_angle = 5.0_rp  !< foreshore slope [deg]
+      real(rp) :: slope_cot = 1.5_rp        !< front slope of the breakwater, cot(alpha) [-]
+      real(rp) :: rc = 0.13_rp              !< crest freeboard above still water [m]
+      real(rp) :: crest_width = 0.3_rp      !< [m]
+      real(rp) :: rear_cot = 1.5_rp         !< rear slope, cot [-]
+      integer :: layers = 0                 !< wall thickness in particle rows (0: enough for 2h)
+   end type breakwater_cfg
+
+   type :: armour_cfg
+      logical :: on = .false.
+      character(len=name_len) :: placement = 'regular'   !< 'regular' | 'irregular'
+      real(rp) :: dn = 0.02_rp              !< cube side (nominal diameter) [m]
+      real(rp) :: density = 2200.0_rp       !< concrete density [kg/m3]
+      real(rp) :: porosity = 0.0_rp         !< layer porosity [-] (0: 0.21 regular, 0.25 irregular)
+      real(rp) :: mu = 0.8_rp               !< friction with the underlayer and between units [-]
+      integer :: seed = 1                   !< irregular: gaps and tilts
+      real(rp) :: max_tilt = 5.0_rp         !< irregular: largest tilt from the slope [deg]
+      real(rp) :: gap_spread = 0.5_rp       !< irregular: gaps vary by +- this fraction of their mean [-]
+      integer :: n_units = 0                !< units (0: as many as fit from the toe to the crest)
+      real(rp) :: threshold = 1.0_rp        !< a unit is displaced beyond threshold*dn [-]
+      logical :: toe_block = .true.         !< a fixed unit at the toe holds the layer
+   end type armour_cfg
+
+   real(rp) :: x_start, depth, toe_depth, flat_length, foreshore_angle, slope_cot, rc, crest_width, rear_cot
+   integer :: layers
+   namelist /breakwater/ x_start, depth, toe_depth, flat_length, foreshore_angle, slope_cot, rc, crest_width, &
+      rear_cot, layers
+   character(len=name_len) :: placement
+   real(rp) :: dn, density, porosity, mu, max_tilt, gap_spread, threshold
+   integer :: seed, n_units
+   logical :: toe_block
+   namelist /armour/ placement, dn, density, porosity, mu, seed, max_tilt, gap_spread, n_units, threshold, toe_block
+
+contains
+
+   subroutine bw_to_vars(c)
+      type(breakwater_cfg), intent(in) :: c
+      x_start = c%x_start; depth = c%depth; toe_depth = c%toe_depth; flat_length = c%flat_length
+      foreshore_angle = c%foreshore_angle; slope_cot = c%slope_cot; rc = c%rc; crest_width = c%crest_width
+      rear_cot = c%rear_cot; layers = c%layers
+   end subroutine bw_to_vars
+
+   subroutine read_breakwater(file, c)
+      character(len=*), intent(in) :: file
+      type(breakwater_cfg), intent(out) :: c
+      integer :: u, ios, n
+      character(len=msg_len) :: msg
+      character(len=*), parameter :: g = 'breakwater'
+      n = group_count(file, g)
+      if (n > 1) call input_error(file, g, '', 'group appears more than once')
+      if (n == 0) return
+      call bw_to_vars(c)
+      u = open_case(file)
+      read (u, nml=breakwater, iostat=ios, iomsg=msg)
+      close (u)
+      if (read_failed(file, g, ios, msg)) return
+      c%on = .true.
+      c%x_start = x_start; c%depth = depth; c%toe_depth = toe_depth; c%flat_length = flat_length
+      c%foreshore_angle = foreshore_angle; c%slope_cot = slope_cot; c%rc = rc; c%crest_width = crest_width
+      c%rear_cot = rear_cot; c%layers = layers
+      call check_real(file, g, 'depth', c%depth, 0.0_rp, 100.0_rp, lo_open=.true.)
+      call check_real(file, g, 'toe_depth', c%toe_depth, 0.0_rp, c%depth, lo_open=.true.)
+      call check_real(file, g, 'flat_length', c%flat_length, 0.0_rp, 1.0e4_rp)
+      if (c%toe_depth < c%depth) then
+         call check_real(file, g, 'foreshore_angle', c%foreshore_angle, 0.0_rp, 45.0_rp, lo_open=.true.)
+      end if
+      call check_real(file, g, 'slope_cot', c%slope_cot, 0.5_rp, 10.0_rp)
+      call check_real(file, g, 'rc', c%rc, 0.0_rp, 100.0_rp, lo_open=.true.)
+      call check_real(file, g, 'crest_width', c%crest_width, 0.0_rp, 1.0e4_rp, lo_open=.true.)
+      call check_real(file, g, 'rear_cot', c%rear_cot, 0.5_rp, 10.0_rp)
+      call check_int(file, g, 'layers', c%layers, 0, 100)
+   end subroutine read_breakwater
+
+   subroutine write_breakwater(u, c)
+      integer, intent(in) :: u
+      type(breakwater_cfg), intent(in) :: c
+      if (.not. c%on) return
+      call bw_to_vars(c)
+      write (u, nml=breakwater)
+   end subroutine write_breakwater
+
+   subroutine ar_to_vars(c)
+      type(armour_cfg), intent(in) :: c
+      placement = c%placement; dn = c%dn; density = c%density; porosity = c%porosity; mu = c%mu
+      seed = c%seed; max_tilt = c%max_tilt; gap_spread = c%gap_spread; n_units = c%n_units
+      threshold = c%threshold; toe_block = c%toe_block
+   end subroutine ar_to_vars
+
+   subroutine read_armour(file, dp, c)
+      character(len=*), intent(in) :: file
+      real(rp), intent(in) :: dp
+      type(armour_cfg), intent(out) :: c
+      integer :: u, ios, n
+      character(len=msg_len) :: msg
+      character(len=*), parameter :: g = 'armour'
+      n = group_count(file, g)
+      if (n > 1) call input_error(file, g, '', 'group appears more than once (one layer per case)')
+      if (n == 0) return
+      if (group_count(file, 'breakwater') == 0) call input_error(file, g, '', &
+                                                                 'the armour layer needs a &breakwater group')
+      call ar_to_vars(c)
+      u = open_case(file)
+      read (u, nml=armour, iostat=ios, iomsg=msg)
+      close (u)
+      if (read_failed(file, g, ios, msg)) return
+      c%on = .true.
+      c%placement = placement; c%dn = dn; c%density = density; c%porosity = porosity; c%mu = mu
+      c%seed = seed; c%max_tilt = max_tilt; c%gap_spread = gap_spread; c%n_units = n_units
+      c%threshold = threshold; c%toe_block = toe_block
+      call check_choice(file, g, 'placement', c%placement, [character(len=name_len) :: 'regular', 'irregular'])
+      call check_real(file, g, 'dn', c%dn, 3.0_rp*dp, 100.0_rp)
+      call check_real(file, g, 'density', c%density, 1.0_rp, 1.0e5_rp)
+      call check_real(file, g, 'porosity', c%porosity, 0.0_rp, 0.6_rp)
+      if (c%porosity <= 0.0_rp) c%porosity = merge(0.21_rp, 0.25_rp, c%placement == 'regular')
+      call check_real(file, g, 'mu', c%mu, 0.0_rp, 10.0_rp)
+      call check_int(file, g, 'seed', c%seed, 0, huge(1))
+      call check_real(file, g, 'max_tilt', c%max_tilt, 0.0_rp, 30.0_rp)
+      call check_real(file, g, 'gap_spread', c%gap_spread, 0.0_rp, 1.0_rp)
+      call check_int(file, g, 'n_units', c%n_units, 0, 100000)
+      call check_real(file, g, 'threshold', c%threshold, 0.0_rp, 100.0_rp, lo_open=.true.)
+   end subroutine read_armour
+
+   subroutine write_armour(u, c)
+      integer, intent(in) :: u
+      type(armour_cfg), intent(in) :: c
+      if (.not. c%on) return
+      call ar_to_vars(c)
+      write (u, nml=armour)
+   end subroutine write_armour
+end module input_breakwater

@@ -1,0 +1,224 @@
+!> Wave gauges and pressure probes, written to OUT/gauges.csv (by rank 0).
+!> Elevation: the free surface above a point x is where the kernel sum of
+!> the fluid's volume, S(y) = sum_j V_j W(|(x, y) - x_j|), falls through 0.5
+!> (inside the water S = 1, in air 0; on a still surface the level is the
+!> still-water line). Pressure: Shepard average of the fluid pressure at
+!> (x, y), zero where the point is dry (S < 0.1).
+module probe_gauges
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+   use kinds, only: rp
+   use constants, only: kind_fluid, msg_len
+   use input_wave, only: gauge_cfg
+   use params, only: params_t
+   use grid, only: grid_t, grid_column, grid_cell
+   use comm, only: comm_sum
+   use particles, only: particles_t
+   use kernel, only: kernel_w
+   use errors, only: fatal
+   implicit none
+   private
+   public :: gauges_open, gauges_sample, gauges_close, gauge_values
+
+   integer :: unit_ = 0
+   logical :: opened = .false.
+   real(rp), allocatable :: cy(:), cdx(:), cv(:), cp(:)   ! candidates of one gauge
+
+contains
+
+   !> A new file with the gauge table in '#' lines and the column header,
+   !> or on restart the old one cut back to rows up to time t_keep.
+   subroutine gauges_open(out_dir, gs, restart, t_keep)
+      character(len=*), intent(in) :: out_dir
+      type(gauge_cfg), intent(in) :: gs(:)
+      logical, intent(in) :: restart
+      real(rp), intent(in) :: t_keep
+      character(len=:), allocatable :: path, keep, head
+      character(len=4096) :: line
+      character(len=msg_len) :: msg
+      integer :: u, ios, k
+      real(rp) :: t
+      logical :: have
+      character(len=64) :: b
+      path = trim(out_dir)//'/gauges.csv'
+      keep = ''
+      inquire (file=path, exist=have)
+      if (restart .and. have) then
+         open (newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+         if (ios == 0) then
+            rows: do
+               read (u, '(a)', iostat=ios, iomsg=msg) line
+               if (ios /= 0) exit rows
+               if (line(1:1) == '#' .or. line(1:4) == 'time') cycle rows
+               k = index(line, ',')
+               if (k < 2) cycle rows
+               read (line(1:k - 1), *, iostat=ios, iomsg=msg) t
+               if (ios == 0 .and. t <= t_keep*(1.0_rp + 1.0e-12_rp)) keep = keep//trim(line)//new_line('a')
+            end do rows
+            close (u)
+         end if
+      end if
+      open (newunit=unit_, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+      if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
+      opened = .true.
+      write (unit_, '(a)') '# id,kind,x,y'
+      head = 'time'
+      do k = 1, size(gs)
+         if (gs(k)%kind == 'elevation') then
+            write (unit_, '("# ",i0,",elevation,",f0.6,",nan")') k, gs(k)%x
+            write (b, '(",eta_",i0)') k
+         else
+            write (unit_, '("# ",i0,",pressure,",f0.6,",",f0.6)') k, gs(k)%x, gs(k)%y
+            write (b, '(",p_",i0)') k
+         end if
+         head = head//trim(b)
+      end do
+      write (unit_, '(a)') head
+      if (len(keep) > 0) write (unit_, '(a)', advance='no') keep
+      flush (unit_)
+   end subroutine gauges_open
+
+   !> One row: the value of every gauge at time t (every rank calls it; rank
+   !> 0 writes).
+   subroutine gauges_sample(t, gs, prm, g, p)
+      real(rp), intent(in) :: t
+      type(gauge_cfg), intent(in) :: gs(:)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      real(rp) :: val(size(gs))
+      integer :: k
+      call gauge_values(gs, prm, g, p, val)
+      if (.not. opened) return
+      write (unit_, '(es23.15e3)', advance='no') t
+      do k = 1, size(gs)
+         write (unit_, '(",",es23.15e3)', advance='no') val(k)
+      end do
+      write (unit_, '()')
+      flush (unit_)
+   end subroutine gauges_sample
+
+   subroutine gauges_close()
+      if (opened) close (unit_)
+      opened = .false.
+   end subroutine gauges_close
+
+   !> Elevation above still water [m] or pressure [Pa] of every gauge. Each
+   !> rank adds up what its own particles contribute (the kernel sum on a
+   !> column of heights dp/4 apart for an elevation gauge; the weighted
+   !> pressure and the weight for a pressure gauge), one sum over the ranks
+   !> completes them, so the result does not depend on the decomposition.
+   !> The grid must hold the particles' current order (it is sorted every step).
+   subroutine gauge_values(gs, prm, g, p, val)
+      type(gauge_cfg), intent(in) :: gs(:)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      real(rp), intent(out) :: val(:)
+      real(rp), allocatable :: acc(:)
+      integer :: k, nc, ny, off, i, m, lo, hi
+      real(rp) :: dy, ybot, r2, w
+      dy = 0.25_rp*prm%dp
+      ybot = g%y0
+      ny = ceiling(g%ncy*g%cs/dy) + 1
+      ! one block per gauge: ny kernel sums (elevation) or 2 (pressure)
+      allocate (acc(size(gs)*ny))
+      acc = 0.0_rp
+      do k = 1, size(gs)
+         off = (k - 1)*ny
+         call candidates(gs(k)%x, nc)
+         if (gs(k)%kind == 'elevation') then
+            do i = 1, nc
+               lo = max(0, floor((cy(i) - 2.0_rp*prm%h - ybot)/dy))
+               hi = min(ny - 1, ceiling((cy(i) + 2.0_rp*prm%h - ybot)/dy))
+               do m = lo, hi
+                  r2 = cdx(i)**2 + (ybot + m*dy - cy(i))**2
+                  if (r2 < prm%support2) acc(off + m + 1) = acc(off + m + 1) + &
+                                                            cv(i)*kernel_w(prm%kernel, sqrt(r2), prm%h)
+               end do
+            end do
+         else
+            do i = 1, nc
+               r2 = cdx(i)**2 + (gs(k)%y - cy(i))**2
+               if (r2 >= prm%support2) cycle
+               w = cv(i)*kernel_w(prm%kernel, sqrt(r2), prm%h)
+               acc(off + 1) = acc(off + 1) + w
+               acc(off + 2) = acc(off + 2) + w*cp(i)
+            end do
+         end if
+      end do
+      call comm_sum(acc)
+      do k = 1, size(gs)
+         off = (k - 1)*ny
+         if (gs(k)%kind == 'elevation') then
+            val(k) = surface(acc(off + 1:off + ny)) 
+         else
+            val(k) = 0.0_rp
+            if (acc(off + 1) >= 0.1_rp) val(k) = acc(off + 2)/acc(off + 1)
+         end if
+      end do
+   contains
+      !> Coming down from the top, the first height where the kernel sum
+      !> reaches 0.5, linear between samples; nan where it never does (dry).
+      real(rp) function surface(s) result(eta)
+         real(rp), intent(in) :: s(:)
+         integer :: m
+         eta = ieee_value(eta, ieee_quiet_nan)
+         do m = size(s) - 1, 1, -1
+            if (s(m) >= 0.5_rp) then
+               eta = ybot + (m - 1)*dy + dy*(s(m) - 0.5_rp)/max(s(m) - s(m + 1), 1.0e-12_rp) - prm%y_surface
+               return
+            end if
+         end do
+      end function surface
+
+      !> This rank's own fluid particles within 2h of the vertical line
+      !> through x: their height, horizontal offset, volume and pressure.
+      subroutine candidates(x, n)
+         real(rp), intent(in) :: x
+         integer, intent(out) :: n
+         integer :: kx, jx, iy, c, j, cap
+         real(rp) :: dx
+         cap = 0
+         if (allocated(cy)) cap = size(cy)
+         n = 0
+         kx = grid_column(g%x0, g%cs, g%ncx_all, x)
+         do jx = kx - 1, kx + 1
+            do iy = 1, g%ncy
+               c = grid_cell(g, jx, iy)
+               if (c == 0) cycle                  ! not this rank's column
+               in_cell: do j = g%cstart(c), min(g%cstart(c + 1) - 1, p%n_own)
+                  if (p%kind(j) /= kind_fluid) cycle in_cell
+                  dx = x - p%x(1, j)
+                  if (abs(dx) >= 2.0_rp*prm%h) cycle in_cell
+                  if (n == cap) call grow(cap)
+                  n = n + 1
+                  cy(n) = p%x(2, j)
+                  cdx(n) = dx
+                  cv(n) = p%mass(j)/p%rho(j)
+                  cp(n) = prm%b*((p%rho(j)/prm%rho0)**prm%gamma - 1.0_rp)
+               end do in_cell
+            end do
+         end do
+      end subroutine candidates
+   end subroutine gauge_values
+
+   !> Room for twice as many candidates, keeping those found.
+   subroutine grow(cap)
+      integer, intent(inout) :: cap
+      real(rp), allocatable :: t1(:), t2(:), t3(:), t4(:)
+      integer :: m
+      m = max(256, 2*cap)
+      allocate (t1(m), t2(m), t3(m), t4(m))
+      if (cap > 0) then
+         t1(1:cap) = cy(1:cap)
+         t2(1:cap) = cdx(1:cap)
+         t3(1:cap) = cv(1:cap)
+         t4(1:cap) = cp(1:cap)
+      end if
+      call move_alloc(t1, cy)
+      call move_alloc(t2, cdx)
+      call move_alloc(t3, cv)
+      call move_alloc(t4, cp)
+      cap = m
+   end subroutine grow
+end module probe_gauges

@@ -1,0 +1,358 @@
+!> Flume generators: the wavemaker paddle, the breakwater (bed, foreshore,
+!> core and still water) and its armour layer of cubes. They make geometry
+!> objects and body groups like those a user writes, marked `generated`,
+!> so the rest of the code treats them as any other object or body.
+module scene_flume
+   use kinds, only: rp
+   use constants, only: pi, name_len
+   use input_geometry, only: geom_object
+   use input_body, only: body_cfg
+   use input_wave, only: wavemaker_cfg
+   use input_breakwater, only: breakwater_cfg, armour_cfg
+   use input_check, only: int_str, real_str
+   use errors, only: input_error
+   implicit none
+   private
+   public :: armour_layer_t, paddle_object, breakwater_objects, armour_units, breakwater_levels
+
+   !> What the armour generator achieved; the solver writes it to armour.csv.
+   type :: armour_layer_t
+      integer :: n_units = 0
+      integer :: first = 0                 !< index in the case's bodies of the first unit
+      real(rp) :: porosity = 0.0_rp        !< achieved [-]
+      real(rp) :: alpha = 0.0_rp           !< slope angle [rad]
+      real(rp), allocatable :: pose(:, :)  !< (3, n_units): x [m], y [m], angle [deg] at the start
+   end type armour_layer_t
+
+   !> A row of units along the slope while it is being laid out.
+   type :: row_t
+      real(rp) :: dn = 0.0_rp, target = 0.0_rp, s0 = 0.0_rp
+      real(rp), allocatable :: tilt(:), wgt(:), foot(:), sc(:)
+   end type row_t
+
+   real(rp), parameter :: deg = pi/180.0_rp
+   integer, parameter :: max_parts = 9     !< objects of a breakwater: 6 bed lines, 2 walls, the water
+
+contains
+
+   !> The paddle: a wall of particles behind the face x0, from the bed up.
+   function paddle_object(wm, dp, h) result(o)
+      type(wavemaker_cfg), intent(in) :: wm
+      real(rp), intent(in) :: dp, h
+      type(geom_object) :: o
+      real(rp) :: thick, top
+      integer :: layers
+      layers = wm%layers
+      if (layers == 0) layers = max(1, ceiling(2.0_rp*h/dp - 1.0e-9_rp))
+      thick = layers*dp
+      top = wm%top
+      if (top <= 0.0_rp) top = wm%y_bed + 1.5_rp*wm%depth
+      o%group = 'wavemaker'
+      o%index = 1
+      o%generated = .true.
+      o%role = 'solid'
+      o%motion = 'wavemaker'
+      o%hinge_depth = wm%depth
+      o%box = [wm%x0 - thick, wm%x0, wm%y_bed, top]
+      o%nv = 4
+      allocate (o%v(2, 4))
+      o%v = reshape([o%box(1), o%box(3), o%box(2), o%box(3), o%box(2), o%box(4), o%box(1), o%box(4)], [2, 4])
+   end function paddle_object
+
+   !> Key points of the profile: x of the foreshore start, toe, front crest
+   !> edge, rear crest edge, rear foot; y of the toe and the crest.
+   subroutine breakwater_levels(bw, x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c)
+      type(breakwater_cfg), intent(in) :: bw
+      real(rp), intent(out) :: x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c
+      x_fs = bw%x_start + bw%flat_length
+      y_toe = bw%depth - bw%toe_depth
+      x_toe = x_fs
+      if (y_toe > 0.0_rp) x_toe = x_fs + y_toe/tan(bw%foreshore_angle*deg)
+      y_c = bw%depth + bw%rc
+      x_cf = x_toe + (y_c - y_toe)*bw%slope_cot
+      x_cb = x_cf + bw%crest_width
+      x_rf = x_cb + (y_c - y_toe)*bw%rear_cot
+   end subroutine breakwater_levels
+
+   !> The bed as a chain of slopes (particle rows below each line), an end
+   !> wall, and the still water from the paddle to the front slope. The core
+   !> is impermeable: porous flow through it is not modelled.
+   subroutine breakwater_objects(file, bw, paddle, xmin, xmax, ymin, dp, h, objs)
+      character(len=*), intent(in) :: file
+      type(breakwater_cfg), intent(in) :: bw
+      logical, intent(in) :: paddle          !< a wavemaker closes the flume at x_start; else a wall does
+      real(rp), intent(in) :: xmin, xmax, ymin, dp, h
+      type(geom_object), allocatable, intent(out) :: objs(:)
+      real(rp) :: x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c, thick, x_swl, xw
+      integer :: layers, n
+      type(geom_object) :: tmp(max_parts)
+      character(len=*), parameter :: g = 'breakwater'
+      layers = bw%layers
+      if (layers == 0) layers = max(1, ceiling(2.0_rp*h/dp - 1.0e-9_rp))
+      thick = layers*dp
+      call breakwater_levels(bw, x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c)
+      if (ymin > -thick + 1.0e-9_rp) call input_error(file, g, 'layers', 'the bed (y = 0) is '// &
+         int_str(layers)//' rows = '//real_str(thick)//' m thick: &domain ymin must be <= '//real_str(-thick))
+      if (bw%x_start < xmin + thick) call input_error(file, g, 'x_start', 'must leave room for the paddle: >= '// &
+                                                      real_str(xmin + thick)//' (&domain xmin + wall thickness)')
+      xw = xmax - thick
+      if (x_rf > xw - dp) call input_error(file, g, 'crest_width', 'the breakwater ends at x = '// &
+         real_str(x_rf)//' m, beyond the end wall at '//real_str(xw)//' m: make &domain xmax larger')
+      n = 0
+      call add_line(xmin, 0.0_rp, x_fs, 0.0_rp)
+      if (y_toe > 0.0_rp) call add_line(x_fs, 0.0_rp, x_toe, y_toe)
+      call add_line(x_toe, y_toe, x_cf, y_c)
+      call add_line(x_cf, y_c, x_cb, y_c)
+      call add_line(x_cb, y_c, x_rf, y_toe)
+      if (xw - x_rf > dp) call add_line(x_rf, y_toe, xw, y_toe)
+      ! end wall, so overtopping water stays in the flume
+      n = n + 1
+      tmp(n)%group = 'box'
+      tmp(n)%box = [xw, xmax, y_toe - thick, y_c + bw%rc]
+      tmp(n)%v = reshape([xw, y_toe - thick, xmax, y_toe - thick, xmax, y_c + bw%rc, xw, y_c + bw%rc], [2, 4])
+      tmp(n)%nv = 4
+      if (.not. paddle) then
+         n = n + 1
+         tmp(n)%group = 'box'
+         tmp(n)%box = [bw%x_start - thick, bw%x_start, 0.0_rp, y_c + bw%rc]
+         tmp(n)%v = reshape([bw%x_start - thick, 0.0_rp, bw%x_start, 0.0_rp, bw%x_start, y_c + bw%rc, &
+                             bw%x_start - thick, y_c + bw%rc], [2, 4])
+         tmp(n)%nv = 4
+      end if
+      ! still water up to the front slope
+      x_swl = x_toe + bw%toe_depth*bw%slope_cot
+      n = n + 1
+      tmp(n)%group = 'polygon'
+      tmp(n)%role = 'fluid'
+      if (y_toe > 0.0_rp) then
+         tmp(n)%v = reshape([bw%x_start, 0.0_rp, x_fs, 0.0_rp, x_toe, y_toe, x_swl, bw%depth, &
+                             bw%x_start, bw%depth], [2, 5])
+      else
+         tmp(n)%v = reshape([bw%x_start, 0.0_rp, x_toe, 0.0_rp, x_swl, bw%depth, bw%x_start, bw%depth], [2, 4])
+      end if
+      tmp(n)%nv = size(tmp(n)%v, 2)
+      tmp(1:n)%generated = .true.
+      tmp(1:n)%index = 1
+      objs = tmp(1:n)
+   contains
+      subroutine add_line(xa, ya, xb, yb)
+         real(rp), intent(in) :: xa, ya, xb, yb
+         real(rp) :: t(2), nrm(2)
+         n = n + 1
+         tmp(n)%group = 'slope'
+         tmp(n)%line = [xa, ya, xb, yb]
+         tmp(n)%layers = layers
+         t = [xb - xa, yb - ya]/hypot(xb - xa, yb - ya)
+         nrm = [-t(2), t(1)]
+         tmp(n)%v = reshape([xa - thick*nrm(1), ya - thick*nrm(2), xb - thick*nrm(1), yb - thick*nrm(2), &
+                             xb, yb, xa, ya], [2, 4])
+         tmp(n)%nv = 4
+      end subroutine add_line
+   end subroutine breakwater_objects
+
+   !> A single layer of cubes (squares in 2D) on the front slope, from the
+   !> toe up to the crest. Each unit lies on the underlayer; the gaps between
+   !> units give the layer its porosity, measured in a band of thickness dn
+   !> above the slope from the toe unit to the end of the last unit.
+   !> Regular: equal gaps, no tilt. Irregular: gaps and tilts drawn from the
+   !> seed, gaps scaled so the measured porosity meets the target.
+   subroutine armour_units(file, bw, ar, bodies, layer)
+      character(len=*), intent(in) :: file
+      type(breakwater_cfg), intent(in) :: bw
+      type(armour_cfg), intent(in) :: ar
+      type(body_cfg), allocatable, intent(out) :: bodies(:)
+      type(armour_layer_t), intent(out) :: layer
+      real(rp) :: x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c, s_max, t(2), nrm(2), p0(2)
+      type(row_t) :: r
+      integer :: ncap, n, i, k
+      character(len=*), parameter :: g = 'armour'
+      call breakwater_levels(bw, x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c)
+      layer%alpha = atan(1.0_rp/bw%slope_cot)
+      t = [cos(layer%alpha), sin(layer%alpha)]
+      nrm = [-t(2), t(1)]
+      p0 = [x_toe, y_toe]
+      s_max = (y_c - y_toe)/sin(layer%alpha)
+      r%dn = ar%dn
+      r%target = ar%porosity
+      r%s0 = merge(ar%dn, 0.0_rp, ar%toe_block)
+      ncap = max(0, floor((s_max - r%s0)/ar%dn))
+      call draw_units(ar, ncap, r)
+      ! the most units whose layer, at the target porosity, fits below the crest
+      n = 0
+      fit: do k = ncap, 1, -1
+         call solve_gaps(r, k)
+         if (r%sc(k) + 0.5_rp*r%foot(k) <= s_max + 1.0e-12_rp) then
+            n = k
+            exit fit
+         end if
+      end do fit
+      if (n < 1) call input_error(file, g, 'dn', 'no unit of side '//real_str(ar%dn)// &
+         ' m fits on the front slope (length '//real_str(s_max)//' m from the toe to the crest)')
+      if (ar%n_units > n) call input_error(file, g, 'n_units', 'at most '//int_str(n)//' units of side '// &
+         real_str(ar%dn)//' m fit on the front slope at porosity '//real_str(ar%porosity)//' (got '// &
+         int_str(ar%n_units)//')')
+      if (ar%n_units > 0) then
+         n = ar%n_units
+         call solve_gaps(r, n)
+      end if
+      layer%n_units = n
+      layer%porosity = 0.0_rp
+      if (n > 1) layer%porosity = row_porosity(r, n)
+      if (n > 1 .and. abs(layer%porosity - ar%porosity) > 0.02_rp) call input_error(file, g, 'porosity', &
+         'the layer cannot reach porosity '//real_str(ar%porosity)//' with these tilts (reached '// &
+         real_str(layer%porosity)//')')
+      i = merge(1, 0, ar%toe_block)
+      allocate (bodies(n + i), layer%pose(3, n))
+      if (ar%toe_block) then
+         bodies(1) = unit_cfg(ar, p0, t, nrm, layer%alpha, 0.5_rp*ar%dn, 0.0_rp)
+         bodies(1)%motion = 'fixed'
+      end if
+      do k = 1, n
+         bodies(i + k) = unit_cfg(ar, p0, t, nrm, layer%alpha, r%sc(k), r%tilt(k))
+         layer%pose(:, k) = [bodies(i + k)%x, bodies(i + k)%y, bodies(i + k)%angle]
+      end do
+      layer%first = i + 1       ! relative to these bodies; the caller shifts it
+   end subroutine armour_units
+
+   !> Tilts and gap weights of up to ncap units, from the seed; the draws do
+   !> not depend on how many units fit, so a longer slope extends the same row.
+   subroutine draw_units(ar, ncap, r)
+      type(armour_cfg), intent(in) :: ar
+      integer, intent(in) :: ncap
+      type(row_t), intent(inout) :: r
+      integer :: i, state
+      allocate (r%tilt(ncap), r%wgt(ncap))
+      r%tilt = 0.0_rp
+      r%wgt = 1.0_rp
+      state = ar%seed
+      if (ar%placement == 'irregular') then
+         do i = 1, ncap
+            r%tilt(i) = (2.0_rp*uniform(state) - 1.0_rp)*ar%max_tilt*deg
+            r%wgt(i) = 1.0_rp + (2.0_rp*uniform(state) - 1.0_rp)*ar%gap_spread
+         end do
+      end if
+      r%foot = ar%dn*(abs(cos(r%tilt)) + abs(sin(r%tilt)))
+   end subroutine draw_units
+
+   !> Gaps of the first m units that meet the target porosity (bisection:
+   !> the porosity grows with the gaps).
+   subroutine solve_gaps(r, m)
+      type(row_t), intent(inout) :: r
+      integer, intent(in) :: m
+      real(rp) :: glo, ghi, gmid
+      integer :: it
+      if (m == 1) then
+         call place_units(r, 1, 0.0_rp)
+         return
+      end if
+      glo = 0.0_rp
+      ghi = 4.0_rp*r%dn
+      do it = 1, 50
+         gmid = 0.5_rp*(glo + ghi)
+         call place_units(r, m, gmid)
+         if (row_porosity(r, m) < r%target) then
+            glo = gmid
+         else
+            ghi = gmid
+         end if
+      end do
+      call place_units(r, m, 0.5_rp*(glo + ghi))
+   end subroutine solve_gaps
+
+   !> Positions along the slope of the first m unit centres, with gaps
+   !> proportional to wgt scaled by gs; the first unit rests on the toe.
+   subroutine place_units(r, m, gs)
+      type(row_t), intent(inout) :: r
+      integer, intent(in) :: m
+      real(rp), intent(in) :: gs
+      real(rp) :: s
+      integer :: k
+      if (allocated(r%sc)) deallocate (r%sc)
+      allocate (r%sc(m))
+      s = r%s0
+      do k = 1, m
+         if (k > 1) s = s + gs*r%wgt(k)
+         r%sc(k) = s + 0.5_rp*r%foot(k)
+         s = s + r%foot(k)
+      end do
+   end subroutine place_units
+
+   !> Void fraction of the band s0 <= s <= end of unit m, 0 <= nu <= dn,
+   !> sampled on a grid of dn/40.
+   real(rp) function row_porosity(r, m) result(pr)
+      type(row_t), intent(in) :: r
+      integer, intent(in) :: m
+      integer, parameter :: nn = 40
+      integer :: ns, a, b, k0, inside
+      real(rp) :: len, ds, s, nu
+      len = r%sc(m) + 0.5_rp*r%foot(m) - r%s0
+      ns = max(1, nint(len/(r%dn/nn)))
+      ds = len/ns
+      inside = 0
+      k0 = 1
+      do a = 1, ns
+         s = r%s0 + (a - 0.5_rp)*ds
+         first_near: do while (k0 < m)
+            if (r%sc(k0) + 0.5_rp*r%foot(k0) >= s - r%dn) exit first_near
+            k0 = k0 + 1
+         end do first_near
+         do b = 1, nn
+            nu = (b - 0.5_rp)*r%dn/nn
+            if (in_some_unit(r, k0, min(m, k0 + 3), s, nu)) inside = inside + 1
+         end do
+      end do
+      pr = 1.0_rp - real(inside, rp)/real(ns*nn, rp)
+   end function row_porosity
+
+   !> Is the point (s along the slope, nu above it) inside one of units k0..k1?
+   pure logical function in_some_unit(r, k0, k1, s, nu) result(inside)
+      type(row_t), intent(in) :: r
+      integer, intent(in) :: k0, k1
+      real(rp), intent(in) :: s, nu
+      integer :: k
+      real(rp) :: c, sn, u, v
+      inside = .false.
+      do k = k0, k1
+         c = cos(r%tilt(k))
+         sn = sin(r%tilt(k))
+         u = c*(s - r%sc(k)) + sn*(nu - 0.5_rp*r%foot(k))
+         v = -sn*(s - r%sc(k)) + c*(nu - 0.5_rp*r%foot(k))
+         if (max(abs(u), abs(v)) <= 0.5_rp*r%dn) then
+            inside = .true.
+            return
+         end if
+      end do
+   end function in_some_unit
+
+   !> A unit centred s along the slope from the toe p0, tilted by phi from
+   !> the slope, its lowest corner (or face) on the slope.
+   type(body_cfg) function unit_cfg(ar, p0, t, nrm, alpha, s, phi) result(b)
+      type(armour_cfg), intent(in) :: ar
+      real(rp), intent(in) :: p0(2), t(2), nrm(2), alpha, s, phi
+      real(rp) :: w, c(2)
+      w = ar%dn*(abs(cos(phi)) + abs(sin(phi)))
+      c = p0 + s*t + 0.5_rp*w*nrm
+      b%shape = 'box'
+      b%width = ar%dn
+      b%height = ar%dn
+      b%x = c(1)
+      b%y = c(2)
+      b%angle = (alpha + phi)/deg
+      b%density = ar%density
+      b%mu = ar%mu
+      b%motion = 'floating'
+      b%generated = .true.
+   end function unit_cfg
+
+   !> Uniform number in [0, 1) from a 31-bit Park-Miller generator: the same
+   !> layer from the same seed on every machine and compiler.
+   real(rp) function uniform(state) result(u)
+      integer, intent(inout) :: state
+      integer, parameter :: i8 = selected_int_kind(18)
+      integer(i8) :: s
+      s = mod(int(state, i8), 2147483646_i8) + 1_i8
+      s = mod(16807_i8*s, 2147483647_i8)
+      state = int(s - 1_i8)
+      u = real(s - 1_i8, rp)/2147483646.0_rp
+   end function uniform
+end module scene_flume

@@ -1,0 +1,33 @@
+!> Absorbing zone at the end of a flume: the velocity of the fluid is
+!> relaxed towards rest, v <- v exp(-sigma(x) dt), with a rate that grows
+!> from zero at x0 to `strength` at x1 as ((x - x0)/(x1 - x0))^2, so that
+!> the wave meets no sudden change and is damped over the zone's length.
+module wave_damping
+   use kinds, only: rp
+   use constants, only: kind_fluid
+   use input_wave, only: damping_cfg
+   use particles, only: particles_t
+   implicit none
+   private
+   public :: damping_apply
+
+contains
+
+   subroutine damping_apply(d, p, dt)
+      type(damping_cfg), intent(in) :: d
+      type(particles_t), intent(inout) :: p
+      real(rp), intent(in) :: dt
+      integer :: i
+      real(rp) :: s, inv_len, f
+      inv_len = 1.0_rp/(d%x1 - d%x0)
+      do i = 1, p%n
+         if (p%kind(i) /= kind_fluid) cycle
+         s = (p%x(1, i) - d%x0)*inv_len
+         if (s <= 0.0_rp) cycle
+         s = min(s, 1.0_rp)
+         f = exp(-d%strength*s*s*dt)
+         p%v(:, i) = f*p%v(:, i)
+         p%vm1(:, i) = f*p%vm1(:, i)
+      end do
+   end subroutine damping_apply
+end module wave_damping
