@@ -115,8 +115,8 @@ contains
       type(particles_t), intent(in) :: p
       real(rp), intent(out) :: val(:)
       real(rp), allocatable :: acc(:)
-      integer :: k, nc, ny, off, i, m, lo, hi
-      real(rp) :: dy, ybot, r2, w
+      integer :: k, nc, ny, off
+      real(rp) :: dy, ybot
       dy = 0.25_rp*prm%dp
       ybot = g%y0
       ny = ceiling(g%ncy*g%cs/dy) + 1
@@ -125,32 +125,18 @@ contains
       acc = 0.0_rp
       do k = 1, size(gs)
          off = (k - 1)*ny
-         call candidates(gs(k)%x, nc)
+         call candidates(gs(k)%x, prm, g, p, nc)
          if (gs(k)%kind == 'elevation') then
-            do i = 1, nc
-               lo = max(0, floor((cy(i) - 2.0_rp*prm%h - ybot)/dy))
-               hi = min(ny - 1, ceiling((cy(i) + 2.0_rp*prm%h - ybot)/dy))
-               do m = lo, hi
-                  r2 = cdx(i)**2 + (ybot + m*dy - cy(i))**2
-                  if (r2 < prm%support2) acc(off + m + 1) = acc(off + m + 1) + &
-                                                            cv(i)*kernel_w(prm%kernel, sqrt(r2), prm%h)
-               end do
-            end do
+            call add_column(prm, nc, ybot, dy, acc(off + 1:off + ny))
          else
-            do i = 1, nc
-               r2 = cdx(i)**2 + (gs(k)%y - cy(i))**2
-               if (r2 >= prm%support2) cycle
-               w = cv(i)*kernel_w(prm%kernel, sqrt(r2), prm%h)
-               acc(off + 1) = acc(off + 1) + w
-               acc(off + 2) = acc(off + 2) + w*cp(i)
-            end do
+            call add_point(prm, nc, gs(k)%y, acc(off + 1:off + 2))
          end if
       end do
       call comm_sum(acc)
       do k = 1, size(gs)
          off = (k - 1)*ny
          if (gs(k)%kind == 'elevation') then
-            val(k) = surface(acc(off + 1:off + ny)) 
+            val(k) = surface(acc(off + 1:off + ny))
          else
             val(k) = 0.0_rp
             if (acc(off + 1) >= 0.1_rp) val(k) = acc(off + 2)/acc(off + 1)
@@ -171,36 +157,75 @@ contains
          end do
       end function surface
 
-      !> This rank's own fluid particles within 2h of the vertical line
-      !> through x: their height, horizontal offset, volume and pressure.
-      subroutine candidates(x, n)
-         real(rp), intent(in) :: x
-         integer, intent(out) :: n
-         integer :: kx, jx, iy, c, j, cap
-         real(rp) :: dx
-         cap = 0
-         if (allocated(cy)) cap = size(cy)
-         n = 0
-         kx = grid_column(g%x0, g%cs, g%ncx_all, x)
-         do jx = kx - 1, kx + 1
-            do iy = 1, g%ncy
-               c = grid_cell(g, jx, iy)
-               if (c == 0) cycle                  ! not this rank's column
-               in_cell: do j = g%cstart(c), min(g%cstart(c + 1) - 1, p%n_own)
-                  if (p%kind(j) /= kind_fluid) cycle in_cell
-                  dx = x - p%x(1, j)
-                  if (abs(dx) >= 2.0_rp*prm%h) cycle in_cell
-                  if (n == cap) call grow(cap)
-                  n = n + 1
-                  cy(n) = p%x(2, j)
-                  cdx(n) = dx
-                  cv(n) = p%mass(j)/p%rho(j)
-                  cp(n) = prm%b*((p%rho(j)/prm%rho0)**prm%gamma - 1.0_rp)
-               end do in_cell
-            end do
-         end do
-      end subroutine candidates
    end subroutine gauge_values
+
+   !> This rank's own fluid particles within 2h of the vertical line
+   !> through x: their height, horizontal offset, volume and pressure.
+   subroutine candidates(x, prm, g, p, n)
+      real(rp), intent(in) :: x
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      integer, intent(out) :: n
+      integer :: kx, jx, iy, c, j, cap
+      real(rp) :: dx
+      cap = 0
+      if (allocated(cy)) cap = size(cy)
+      n = 0
+      kx = grid_column(g%x0, g%cs, g%ncx_all, x)
+      columns: do jx = kx - 1, kx + 1
+         if (grid_cell(g, jx, 1) == 0) cycle columns     ! not this rank's column
+         do iy = 1, g%ncy
+            c = grid_cell(g, jx, iy)
+            in_cell: do j = g%cstart(c), min(g%cstart(c + 1) - 1, p%n_own)
+               if (p%kind(j) /= kind_fluid) cycle in_cell
+               dx = x - p%x(1, j)
+               if (abs(dx) >= 2.0_rp*prm%h) cycle in_cell
+               if (n == cap) call grow(cap)
+               n = n + 1
+               cy(n) = p%x(2, j)
+               cdx(n) = dx
+               cv(n) = p%mass(j)/p%rho(j)
+               cp(n) = prm%b*((p%rho(j)/prm%rho0)**prm%gamma - 1.0_rp)
+            end do in_cell
+         end do
+      end do columns
+   end subroutine candidates
+
+   !> Kernel sums of the candidates on heights ybot + (m-1) dy, m = 1..size(s).
+   subroutine add_column(prm, nc, ybot, dy, s)
+      type(params_t), intent(in) :: prm
+      integer, intent(in) :: nc
+      real(rp), intent(in) :: ybot, dy
+      real(rp), intent(inout) :: s(:)
+      integer :: i, m, lo, hi
+      real(rp) :: r2
+      do i = 1, nc
+         lo = max(0, floor((cy(i) - 2.0_rp*prm%h - ybot)/dy))
+         hi = min(size(s) - 1, ceiling((cy(i) + 2.0_rp*prm%h - ybot)/dy))
+         do m = lo, hi
+            r2 = cdx(i)**2 + (ybot + m*dy - cy(i))**2
+            if (r2 < prm%support2) s(m + 1) = s(m + 1) + cv(i)*kernel_w(prm%kernel, sqrt(r2), prm%h)
+         end do
+      end do
+   end subroutine add_column
+
+   !> Kernel weight and weighted pressure of the candidates at height y.
+   subroutine add_point(prm, nc, y, a)
+      type(params_t), intent(in) :: prm
+      integer, intent(in) :: nc
+      real(rp), intent(in) :: y
+      real(rp), intent(inout) :: a(2)
+      integer :: i
+      real(rp) :: r2, w
+      near: do i = 1, nc
+         r2 = cdx(i)**2 + (y - cy(i))**2
+         if (r2 >= prm%support2) cycle near
+         w = cv(i)*kernel_w(prm%kernel, sqrt(r2), prm%h)
+         a(1) = a(1) + w
+         a(2) = a(2) + w*cp(i)
+      end do near
+   end subroutine add_point
 
    !> Room for twice as many candidates, keeping those found.
    subroutine grow(cap)
