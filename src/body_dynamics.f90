@@ -9,6 +9,7 @@ module body_dynamics
    implicit none
    private
    public :: body_t, motion_floating, motion_fixed, motion_prescribed, bodies_place, bodies_fluid_forces, &
+             bodies_damping_reset, bodies_damping_add, &
              bodies_save, bodies_predict, bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, &
              bodies_accel2, body_of, bodies_energy, bodies_sum_ranks
 
@@ -36,12 +37,14 @@ module body_dynamics
       ! velocity-proportional contact terms (damping, sticking friction):
       ! their sum sets the stable time step, an explicit step must stay
       ! below twice mass / coefficient
-      real(rp) :: c_lin = 0.0_rp             !< [kg/(m s)]
-      real(rp) :: c_rot = 0.0_rp             !< [kg m/s]
       ! state at the start of the step
       real(rp) :: c0(2) = 0.0_rp, theta0 = 0.0_rp, v0(2) = 0.0_rp, omega0 = 0.0_rp
       real(rp), allocatable :: outline(:, :)  !< outline in the particle frame (centre at 0)
    end type body_t
+
+   !> damping matrix of the velocity-proportional contact forces on the
+   !> floating bodies' velocities (u, v, omega of body 1, then body 2, ...)
+   real(rp), allocatable :: cglob(:, :)
 
 contains
 
@@ -102,24 +105,29 @@ contains
    !> of one packed array per force evaluation.
    subroutine bodies_sum_ranks(bodies)
       type(body_t), intent(inout) :: bodies(:)
-      integer, parameter :: m = 11
+      integer, parameter :: m = 9
       real(rp) :: buf(m*size(bodies))
+      real(rp), allocatable :: cbuf(:)
       integer :: b, k
       if (comm_size() == 1) return
       do b = 1, size(bodies)
          k = (b - 1)*m
          associate (x => bodies(b))
-            buf(k + 1:k + m) = [x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric, x%c_lin, x%c_rot]
+            buf(k + 1:k + m) = [x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric]
          end associate
       end do
       call comm_sum(buf)
+      if (allocated(cglob)) then
+         cbuf = reshape(cglob, [size(cglob)])
+         call comm_sum(cbuf)
+         cglob = reshape(cbuf, shape(cglob))
+      end if
       do b = 1, size(bodies)
          k = (b - 1)*m
          associate (x => bodies(b))
             x%f_fluid = buf(k + 1:k + 2); x%t_fluid = buf(k + 3)
             x%f_normal = buf(k + 4:k + 5); x%t_normal = buf(k + 6)
             x%f_fric = buf(k + 7:k + 8); x%t_fric = buf(k + 9)
-            x%c_lin = buf(k + 10); x%c_rot = buf(k + 11)
          end associate
       end do
    end subroutine bodies_sum_ranks
@@ -134,6 +142,139 @@ contains
       a = (b%f_fluid + b%f_normal + b%f_fric)/b%mass - [0.0_rp, b%g]
       alpha = (b%t_fluid + b%t_normal + b%t_fric)/b%inertia
    end subroutine accel
+
+   !> Forget the damping matrix of the last evaluation (nb bodies).
+   subroutine bodies_damping_reset(nb)
+      integer, intent(in) :: nb
+      if (allocated(cglob)) then
+         if (size(cglob, 1) /= 3*nb) deallocate (cglob)
+      end if
+      if (.not. allocated(cglob)) allocate (cglob(3*nb, 3*nb))
+      cglob = 0.0_rp
+   end subroutine bodies_damping_reset
+
+   !> A velocity-proportional force -c (e . (v_i - v_j)) e between point xi of
+   !> body bi and point xj of body bj (0, or a body that is not floating:
+   !> its velocity is given), along the unit vector e. Adds c J^T J to the
+   !> damping matrix, J the rates of e . (v_i - v_j) with respect to the
+   !> floating bodies' (u, v, omega); the pair's forces stay equal and opposite.
+   subroutine bodies_damping_add(bodies, bi, bj, xi, xj, c, e)
+      type(body_t), intent(in) :: bodies(:)
+      integer, intent(in) :: bi, bj
+      real(rp), intent(in) :: xi(2), xj(2), c, e(2)
+      real(rp) :: ji(3), jj(3)
+      integer :: oi, oj, k
+      logical :: fi, fj
+      fi = .false.
+      fj = .false.
+      if (bi > 0) fi = bodies(bi)%motion == motion_floating
+      if (bj > 0) fj = bodies(bj)%motion == motion_floating
+      oi = 3*(bi - 1)
+      oj = 3*(bj - 1)
+      if (fi) ji = rate(bodies(bi), xi)
+      if (fj) jj = -rate(bodies(bj), xj)
+      do k = 1, 3
+         if (fi) cglob(oi + 1:oi + 3, oi + k) = cglob(oi + 1:oi + 3, oi + k) + c*ji(k)*ji
+         if (fj) cglob(oj + 1:oj + 3, oj + k) = cglob(oj + 1:oj + 3, oj + k) + c*jj(k)*jj
+         if (fi .and. fj) then
+            cglob(oi + 1:oi + 3, oj + k) = cglob(oi + 1:oi + 3, oj + k) + c*jj(k)*ji
+            cglob(oj + 1:oj + 3, oi + k) = cglob(oj + 1:oj + 3, oi + k) + c*ji(k)*jj
+         end if
+      end do
+   contains
+      pure function rate(b, x) result(jv)
+         type(body_t), intent(in) :: b
+         real(rp), intent(in) :: x(2)
+         real(rp) :: jv(3), r(2)
+         r = x - b%c
+         jv = [e(1), e(2), e(2)*r(1) - e(1)*r(2)]
+      end function rate
+   end subroutine bodies_damping_add
+
+   !> Velocities of the floating bodies after a step of length step from
+   !> (v_start, w_start) with the forces of the last evaluation, the
+   !> velocity-proportional contact forces (friction below the stick speed,
+   !> contact damping: the matrix C) taken implicitly, all bodies together:
+   !>    M q_new = M q_start + step (F - C (q_new - q_eval)),  q = (u, v, omega),
+   !> q_eval the velocities the forces were evaluated at. The damping acts on
+   !> the slip and approach velocities of the contact points only (a rolling
+   !> body is not slowed), equal and opposite between two bodies (momentum is
+   !> kept), exact for any step (stiff friction does not limit the step), and
+   !> at rest (q_new = q_eval) the forces are those evaluated. A dense solve:
+   !> fine for hundreds of bodies.
+   subroutine implicit_velocities(bodies, v_start, w_start, step, v_new, w_new)
+      type(body_t), intent(in) :: bodies(:)
+      real(rp), intent(in) :: v_start(:, :), w_start(:), step
+      real(rp), intent(out) :: v_new(:, :), w_new(:)
+      real(rp), allocatable :: a(:, :), r(:), q(:)
+      real(rp) :: acc(2), alpha, minv(3)
+      integer :: nb, b, o, k
+      nb = size(bodies)
+      allocate (a(3*nb, 3*nb), r(3*nb), q(3*nb))
+      a = 0.0_rp
+      if (allocated(cglob)) then
+         if (size(cglob, 1) == 3*nb) a = step*cglob
+      end if
+      do b = 1, nb
+         o = 3*(b - 1)
+         call accel(bodies(b), acc, alpha)
+         q(o + 1:o + 3) = [bodies(b)%v, bodies(b)%omega]
+         r(o + 1:o + 3) = [v_start(:, b) + step*acc, w_start(b) + step*alpha]
+      end do
+      r = r + matmul(scaled(a), q)
+      a = scaled(a)
+      do k = 1, 3*nb
+         a(k, k) = a(k, k) + 1.0_rp
+      end do
+      call gauss_solve(a, r)
+      do b = 1, nb
+         o = 3*(b - 1)
+         v_new(:, b) = r(o + 1:o + 2)
+         w_new(b) = r(o + 3)
+      end do
+   contains
+      !> Rows divided by the body's mass or moment of inertia.
+      function scaled(c) result(m)
+         real(rp), intent(in) :: c(:, :)
+         real(rp) :: m(size(c, 1), size(c, 2))
+         integer :: bb, oo
+         do bb = 1, nb
+            oo = 3*(bb - 1)
+            minv = [1.0_rp/bodies(bb)%mass, 1.0_rp/bodies(bb)%mass, 1.0_rp/bodies(bb)%inertia]
+            m(oo + 1, :) = c(oo + 1, :)*minv(1)
+            m(oo + 2, :) = c(oo + 2, :)*minv(2)
+            m(oo + 3, :) = c(oo + 3, :)*minv(3)
+         end do
+      end function scaled
+   end subroutine implicit_velocities
+
+   !> Solve a x = r in place (x returned in r) by Gaussian elimination with
+   !> partial pivoting; a is destroyed.
+   pure subroutine gauss_solve(a, r)
+      real(rp), intent(inout) :: a(:, :), r(:)
+      integer :: n, k, i, piv
+      real(rp) :: f, rowk(size(a, 2)), t
+      n = size(r)
+      do k = 1, n
+         piv = k - 1 + maxloc(abs(a(k:n, k)), 1)
+         if (piv /= k) then
+            rowk = a(k, :)
+            a(k, :) = a(piv, :)
+            a(piv, :) = rowk
+            t = r(k)
+            r(k) = r(piv)
+            r(piv) = t
+         end if
+         do i = k + 1, n
+            f = a(i, k)/a(k, k)
+            a(i, k:n) = a(i, k:n) - f*a(k, k:n)
+            r(i) = r(i) - f*r(k)
+         end do
+      end do
+      do k = n, 1, -1
+         r(k) = (r(k) - dot_product(a(k, k + 1:n), r(k + 1:n)))/a(k, k)
+      end do
+   end subroutine gauss_solve
 
    !> Largest squared particle acceleration of the bodies (time-step limit).
    real(rp) function bodies_accel2(bodies) result(a2)
@@ -163,14 +304,16 @@ contains
       type(body_t), intent(inout) :: bodies(:)
       real(rp), intent(in) :: hdt
       integer :: b
-      real(rp) :: a(2), alpha
+      real(rp) :: vn(2, size(bodies)), wn(size(bodies))
+      call implicit_velocities(bodies, reshape([(bodies(b)%v, b=1, size(bodies))], [2, size(bodies)]), &
+                               bodies(:)%omega, hdt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion == motion_fixed) cycle
-         call accel(bodies(b), a, alpha)
          bodies(b)%c = bodies(b)%c + hdt*bodies(b)%v
          bodies(b)%theta = bodies(b)%theta + hdt*bodies(b)%omega
-         bodies(b)%v = bodies(b)%v + hdt*a
-         bodies(b)%omega = bodies(b)%omega + hdt*alpha
+         if (bodies(b)%motion /= motion_floating) cycle
+         bodies(b)%v = vn(:, b)
+         bodies(b)%omega = wn(b)
       end do
    end subroutine bodies_predict
 
@@ -179,12 +322,15 @@ contains
       type(body_t), intent(inout) :: bodies(:)
       real(rp), intent(in) :: dt
       integer :: b
-      real(rp) :: a(2), alpha
+      real(rp) :: vn(2, size(bodies)), wn(size(bodies))
+      call implicit_velocities(bodies, reshape([(bodies(b)%v0, b=1, size(bodies))], [2, size(bodies)]), &
+                               bodies(:)%omega0, dt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion == motion_fixed) cycle
-         call accel(bodies(b), a, alpha)
-         bodies(b)%v = bodies(b)%v0 + dt*a
-         bodies(b)%omega = bodies(b)%omega0 + dt*alpha
+         if (bodies(b)%motion == motion_floating) then
+            bodies(b)%v = vn(:, b)
+            bodies(b)%omega = wn(b)
+         end if
          bodies(b)%c = bodies(b)%c + 0.5_rp*dt*bodies(b)%v
          bodies(b)%theta = bodies(b)%theta + 0.5_rp*dt*bodies(b)%omega
       end do
@@ -196,16 +342,19 @@ contains
       type(body_t), intent(inout) :: bodies(:)
       real(rp), intent(in) :: dt
       integer :: b
-      real(rp) :: a(2), alpha, vh(2), wh
+      real(rp) :: vh(2, size(bodies)), wh(size(bodies))
+      call implicit_velocities(bodies, reshape([(bodies(b)%v0, b=1, size(bodies))], [2, size(bodies)]), &
+                               bodies(:)%omega0, 0.5_rp*dt, vh, wh)
       do b = 1, size(bodies)
          if (bodies(b)%motion == motion_fixed) cycle
-         call accel(bodies(b), a, alpha)
-         vh = bodies(b)%v0 + 0.5_rp*dt*a
-         wh = bodies(b)%omega0 + 0.5_rp*dt*alpha
-         bodies(b)%c = bodies(b)%c0 + dt*vh
-         bodies(b)%theta = bodies(b)%theta0 + dt*wh
-         bodies(b)%v = 2.0_rp*vh - bodies(b)%v0
-         bodies(b)%omega = 2.0_rp*wh - bodies(b)%omega0
+         if (bodies(b)%motion /= motion_floating) then
+            vh(:, b) = bodies(b)%v
+            wh(b) = bodies(b)%omega
+         end if
+         bodies(b)%c = bodies(b)%c0 + dt*vh(:, b)
+         bodies(b)%theta = bodies(b)%theta0 + dt*wh(b)
+         bodies(b)%v = 2.0_rp*vh(:, b) - bodies(b)%v0
+         bodies(b)%omega = 2.0_rp*wh(b) - bodies(b)%omega0
       end do
    end subroutine bodies_correct_pc
 
@@ -215,14 +364,17 @@ contains
       type(body_t), intent(inout) :: bodies(:)
       real(rp), intent(in) :: dt
       integer :: b
-      real(rp) :: a(2), alpha
+      real(rp) :: a(2), alpha, vn(2, size(bodies)), wn(size(bodies))
+      call implicit_velocities(bodies, reshape([(bodies(b)%v, b=1, size(bodies))], [2, size(bodies)]), &
+                               bodies(:)%omega, dt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion == motion_fixed) cycle
          call accel(bodies(b), a, alpha)
          bodies(b)%c = bodies(b)%c + dt*bodies(b)%v + 0.5_rp*dt*dt*a
          bodies(b)%theta = bodies(b)%theta + dt*bodies(b)%omega + 0.5_rp*dt*dt*alpha
-         bodies(b)%v = bodies(b)%v + dt*a
-         bodies(b)%omega = bodies(b)%omega + dt*alpha
+         if (bodies(b)%motion /= motion_floating) cycle
+         bodies(b)%v = vn(:, b)
+         bodies(b)%omega = wn(b)
       end do
    end subroutine bodies_verlet
 

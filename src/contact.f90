@@ -10,13 +10,13 @@ module contact
    use params, only: params_t
    use grid, only: grid_t
    use particles, only: particles_t
-   use body_dynamics, only: body_t, motion_floating, body_of
+   use body_dynamics, only: body_t, motion_floating, body_of, bodies_damping_reset, bodies_damping_add
    use input_body, only: contact_cfg
    use kernel, only: kernel_gradw
    use comm, only: comm_size, comm_allgatherv
    implicit none
    private
-   public :: contact_t, contact_init, contact_forces, contact_body_limits, model_dynamic, model_repulsive, model_noncohesive, &
+   public :: contact_t, contact_init, contact_forces, model_dynamic, model_repulsive, model_noncohesive, &
              model_spring, model_hertz
 
    integer, parameter :: model_dynamic = 1, model_repulsive = 2, model_noncohesive = 3, model_spring = 4, &
@@ -157,8 +157,8 @@ contains
       do k = 1, size(bodies)
          bodies(k)%f_normal = 0.0_rp; bodies(k)%t_normal = 0.0_rp
          bodies(k)%f_fric = 0.0_rp; bodies(k)%t_fric = 0.0_rp
-         bodies(k)%c_lin = 0.0_rp; bodies(k)%c_rot = 0.0_rp
       end do
+      call bodies_damping_reset(size(bodies))
       ct%max_penetration = 0.0_rp
       ct%dt_limit = huge(1.0_rp)
       ct%np = 0
@@ -194,18 +194,14 @@ contains
          end if
       end if
    contains
-      !> A velocity-proportional coefficient c acting between particles i and j.
-      subroutine viscous(i, j, bi, bj, c)
+      !> A velocity-proportional force -c (e . v_rel) e between particles i
+      !> and j, along the unit vector e (the normal or the slip direction):
+      !> its matrix on each body's (u, v, omega), e J^T J with J the rate of
+      !> the particle's velocity along e.
+      subroutine viscous(i, j, bi, bj, c, e)
          integer, intent(in) :: i, j, bi, bj
-         real(rp), intent(in) :: c
-         if (bi > 0) then
-            bodies(bi)%c_lin = bodies(bi)%c_lin + c
-            bodies(bi)%c_rot = bodies(bi)%c_rot + c*sum((p%x(:, i) - bodies(bi)%c)**2)
-         end if
-         if (bj > 0) then
-            bodies(bj)%c_lin = bodies(bj)%c_lin + c
-            bodies(bj)%c_rot = bodies(bj)%c_rot + c*sum((p%x(:, j) - bodies(bj)%c)**2)
-         end if
+         real(rp), intent(in) :: c, e(2)
+         call bodies_damping_add(bodies, bi, bj, p%x(:, i), p%x(:, j), c, e)
       end subroutine viscous
 
       subroutine pair(i, j, bi, bj, d, r2)
@@ -294,7 +290,7 @@ contains
                                1.0e-3_rp*ct%kw(k))
             gn = tsuji_alpha(ct, restitution(bi, bj))*sqrt(mc/(1.5_rp*sn))*sk
             fn = max(kn*overlap**1.5_rp - gn*ul, 0.0_rp)
-            call viscous(i, j, bi, bj, gn)
+            call viscous(i, j, bi, bj, gn, n)
             ct%dt_limit = min(ct%dt_limit, 0.2_rp*sqrt(mc/(1.5_rp*kn*ct%kw(k))))
             call apply(i, j, bi, bj, fn*n, .true.)
             call friction(i, j, bi, bj, n, fn, vij)
@@ -363,7 +359,7 @@ contains
             fn = m_ij*a*rp_w                          ! eps = 1 between solids
             if (.not. abs(fn) > 0.0_rp) cycle
             if (ct%model /= model_noncohesive .or. ul <= 0.0_rp) then
-              call viscous(i, j, bi, bj, m_ij*ct%k10b2*ct%r_f*ct%c*rp_w/prm%h)
+              call viscous(i, j, bi, bj, m_ij*ct%k10b2*ct%r_f*ct%c*rp_w/prm%h, n)
             end if
             ! stiffness of the static term for the time step: d(R)/d(psi)
             kstiff = m_ij*ct%k10b2*0.005_rp*ct%c**2/prm%h*rp_w*sqrt(q + ct%q0)/(1.0_rp - q)/(2.0_rp*prm%h)* &
@@ -444,7 +440,7 @@ contains
          if (mu <= 0.0_rp .or. fn <= 0.0_rp) return
          vt = vij - dot_product(vij, n)*n
          s = norm2(vt)
-         if (s < ct%v_stick) call viscous(i, j, bi, bj, mu*fn/ct%v_stick)
+         if (s < ct%v_stick) call viscous(i, j, bi, bj, mu*fn/ct%v_stick, [-n(2), n(1)])
          if (s <= 0.0_rp) return
          call apply(i, j, bi, bj, -mu*fn*min(s/ct%v_stick, 1.0_rp)*vt/s, .false.)
       end subroutine friction
@@ -552,19 +548,6 @@ contains
          t = (1.0_rp - bodies(k1)%poisson**2)/bodies(k1)%young + (1.0_rp - bodies(k2)%poisson**2)/bodies(k2)%young
       end function tau_pair
    end subroutine contact_forces
-
-   !> Explicit stability of the velocity-proportional terms, dt < 2 m / c,
-   !> once the bodies' coefficients are summed over the ranks.
-   subroutine contact_body_limits(ct, bodies)
-      type(contact_t), intent(inout) :: ct
-      type(body_t), intent(in) :: bodies(:)
-      integer :: k
-      do k = 1, size(bodies)
-         if (bodies(k)%motion /= motion_floating) cycle
-         if (bodies(k)%c_lin > 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.5_rp*bodies(k)%mass/bodies(k)%c_lin)
-         if (bodies(k)%c_rot > 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.5_rp*bodies(k)%inertia/bodies(k)%c_rot)
-      end do
-   end subroutine contact_body_limits
 
    !> The contact table (weighted centre and weight of each pair of touching
    !> bodies, and the Hertz normal tensor) summed over the ranks, in rank

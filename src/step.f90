@@ -14,7 +14,7 @@ module step
    use body_dynamics, only: body_t, bodies_place, bodies_fluid_forces, bodies_save, bodies_predict, &
                             bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, bodies_accel2, &
                             bodies_sum_ranks
-   use contact, only: contact_t, contact_forces, contact_body_limits
+   use contact, only: contact_t, contact_forces
    use comm, only: comm_max
    use comm_halo, only: comm_halo_reverse, comm_halo_refresh
    implicit none
@@ -75,7 +75,6 @@ contains
       ! every rank summed the pairs and particles it owns: one sum over the
       ! ranks, then every rank advances the same bodies
       call bodies_sum_ranks(bodies)
-      call contact_body_limits(ct, bodies)
       call timer_stop(t_bodies)
    end subroutine evaluate
 
