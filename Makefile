@@ -32,7 +32,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test unit unit-debug pytest run lint bench clean figures paper stability study
+.PHONY: all debug deps test unit unit-debug pytest run dambreak breakwater lint bench clean figures paper stability study
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -72,10 +72,38 @@ test: deps
 	$(MAKE) unit unit-debug
 	$(PYTHON) -m pytest -q tests
 
+# mpirun as root (containers, CI) needs these flags; elsewhere they are harmless
+MPIRUN    ?= mpirun $(if $(filter 0,$(shell id -u)),--allow-run-as-root) --oversubscribe
+RANKS     ?= 2
+
+# the default scene: regular waves on a small breakwater with cube armour (doc/breakwater.md)
 run: deps build/mbsph
+	$(MPIRUN) -np $(RANKS) build/mbsph input/demo_breakwater.nml
+	$(PYTHON) -m post.plot_field OUT/demo_breakwater --field velocity --times 2.0 3.5 5.0 6.0
+	$(PYTHON) -m post.armour OUT/demo_breakwater --out OUT/demo_breakwater
+
+# the dam break of the foundation (Martin and Moyce), with its comparison
+dambreak: deps build/mbsph
 	build/mbsph input/dambreak.nml
 	$(PYTHON) -m post.plot_field OUT/dambreak --field pressure
 	$(PYTHON) -m post.dambreak OUT/dambreak
+
+# the coarse breakwater with regular and irregular armour placement: a settling run
+# in still water (1 s), continued under waves by a restart; armour figures and the
+# table against the laboratory ranges (doc/breakwater.md). About 15 minutes on 2 cores.
+BW_END ?= 12.0
+breakwater: deps build/mbsph
+	@for pl in regular irregular; do \
+	  echo "== settling: $$pl"; \
+	  $(MPIRUN) -np $(RANKS) build/mbsph input/breakwater/$$pl.nml > /dev/null || exit 1; \
+	  sed -e "s/t_end = 1.0/t_end = $(BW_END)/" -e "s/overwrite = .true./restart = .true./" \
+	    input/breakwater/$$pl.nml > OUT/breakwater_$$pl/waves.nml; \
+	  echo "== waves: $$pl (restart of the settled layer until t = $(BW_END) s)"; \
+	  $(MPIRUN) -np $(RANKS) build/mbsph OUT/breakwater_$$pl/waves.nml > /dev/null || exit 1; \
+	  $(PYTHON) -m post.armour OUT/breakwater_$$pl --gauge 3 --t-start 5 --out doc/img/breakwater_$$pl || exit 1; \
+	done
+	$(PYTHON) -m post.armour OUT/breakwater_regular OUT/breakwater_irregular --gauge 3 --t-start 5 \
+	  --table doc/breakwater_table.md --out doc/img
 
 lint: deps
 	bash tools/lint.sh

@@ -36,6 +36,7 @@ class Flume:
 
     text: str
     period: float
+    group_speed: float
     length: float          # wavelength L
     height: float
     depth: float
@@ -49,7 +50,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
                paddle: str = "piston", out_dir: str = "OUT/waves", gauges_at=(2.0, 2.25, 2.5, 2.75, 3.0),
                damping_len: float = 1.5, periods_after: float = 4.0, extra_run: str = "",
                extra_numerics: str = "", case_name: str = "waves", second_order: bool = False,
-               ramp_periods: float = 2.0) -> Flume:
+               ramp_periods: float = 2.0, t_end: float | None = None) -> Flume:
     """A regular-wave flume: the paddle, then gauges at the given multiples of the
     wavelength L, then a damping zone damping_len L long. The run lasts until the
     wave front (group speed) has passed the last gauge and periods_after more periods."""
@@ -65,7 +66,8 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
     x_end = x0 + (max(gauges_at) + 0.25 + damping_len) * L
     x_end = x0 + math.ceil((x_end - x0) / dp) * dp
     gx = [x0 + a * L for a in gauges_at]
-    t_end = ramp_periods * T + (max(gauges_at) * L) / cg + periods_after * T
+    if t_end is None:
+        t_end = ramp_periods * T + (max(gauges_at) * L) / cg + periods_after * T
     damp = (x0 + (max(gauges_at) + 0.25) * L, x_end)
     top = 2.0 * depth
     gauges = "\n".join(f"&gauge kind = 'elevation', x = {x:.6f} /" for x in gx)
@@ -105,7 +107,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
 {gauges}
 &damping x0 = {damp[0]:.6f}, x1 = {damp[1]:.6f}, strength = {max(10.0, 10.0 / T):.3f} /
 """
-    return Flume(text, T, L, H, depth, x0, gx, t_end, damp)
+    return Flume(text, T, cg, L, H, depth, x0, gx, t_end, damp)
 
 
 def main() -> None:

@@ -32,6 +32,7 @@ module input_wave
       character(len=path_len) :: signal_file = ''  !< 'file': two columns, time [s] and displacement [m]
       real(rp) :: ramp_periods = 2.0_rp    !< smooth start over this many periods (T or Tp) [-]
       real(rp) :: ramp_time = 0.0_rp       !< or over this time [s] when > 0
+      real(rp) :: t_start = 0.0_rp         !< the paddle rests until this time (a settling run first) [s]
       real(rp) :: max_stroke = 0.0_rp      !< largest paddle excursion allowed, peak to peak [m] (0: 0.8 depth)
       real(rp) :: top = 0.0_rp             !< top of the paddle [m] (0: 1.5 depth above the bed)
       integer :: layers = 0                !< paddle thickness in particle rows (0: enough for 2h)
@@ -53,12 +54,12 @@ module input_wave
    ! &wavemaker
    character(len=name_len) :: paddle, wave
    real(rp) :: x0, depth, height, period, hs, tp, gamma, duration, f_lo, f_hi, ramp_periods, ramp_time, &
-               max_stroke, top, y_bed
+               max_stroke, top, y_bed, t_start
    logical :: second_order
    integer :: seed, layers
    character(len=path_len) :: signal_file
    namelist /wavemaker/ paddle, wave, x0, depth, height, period, second_order, hs, tp, gamma, seed, duration, &
-      f_lo, f_hi, signal_file, ramp_periods, ramp_time, max_stroke, top, layers, y_bed
+      f_lo, f_hi, signal_file, ramp_periods, ramp_time, max_stroke, top, layers, y_bed, t_start
    ! &gauge
    character(len=name_len) :: kind
    real(rp) :: x, y
@@ -75,7 +76,7 @@ contains
       second_order = c%second_order; hs = c%hs; tp = c%tp; gamma = c%gamma; seed = c%seed
       duration = c%duration; f_lo = c%f_lo; f_hi = c%f_hi; signal_file = c%signal_file
       ramp_periods = c%ramp_periods; ramp_time = c%ramp_time; max_stroke = c%max_stroke; top = c%top
-      layers = c%layers; y_bed = c%y_bed
+      layers = c%layers; y_bed = c%y_bed; t_start = c%t_start
    end subroutine wm_to_vars
 
    subroutine wm_from_vars(c)
@@ -84,7 +85,7 @@ contains
       c%second_order = second_order; c%hs = hs; c%tp = tp; c%gamma = gamma; c%seed = seed
       c%duration = duration; c%f_lo = f_lo; c%f_hi = f_hi; c%signal_file = signal_file
       c%ramp_periods = ramp_periods; c%ramp_time = ramp_time; c%max_stroke = max_stroke; c%top = top
-      c%layers = layers; c%y_bed = y_bed
+      c%layers = layers; c%y_bed = y_bed; c%t_start = t_start
    end subroutine wm_from_vars
 
    !> The group alone: choices and ranges. Depth, steepness and stroke are
@@ -136,6 +137,7 @@ contains
                                                                       'is implemented for the piston paddle only')
       call check_real(file, g, 'ramp_periods', c%ramp_periods, 0.0_rp, 100.0_rp)
       call check_real(file, g, 'ramp_time', c%ramp_time, 0.0_rp, 1.0e4_rp)
+      call check_real(file, g, 't_start', c%t_start, 0.0_rp, 1.0e6_rp)
       call check_real(file, g, 'max_stroke', c%max_stroke, 0.0_rp, 1.0e3_rp)
       if (c%max_stroke <= 0.0_rp) c%max_stroke = 0.8_rp*c%depth
       call check_real(file, g, 'top', c%top, 0.0_rp, 1.0e4_rp)

@@ -57,7 +57,7 @@ contains
          if (wm%second_order) lines = lines//' + second order '//real_str(amp2)//' m'
       case ('irregular')
          dur = wm%duration
-         if (dur <= 0.0_rp) dur = t_end
+         if (dur <= 0.0_rp) dur = max(t_end - wm%t_start, 20.0_rp*wm%tp)
          dt = min(wm%tp/200.0_rp, 0.01_rp)
          call jonswap_paddle_signal(wm%hs, wm%tp, wm%gamma, wm%depth, g, wm%paddle, wm%seed, dur, dt, ts, xs, eta, &
                                     nwaves, wm%f_lo, wm%f_hi)
@@ -88,20 +88,24 @@ contains
          end if
       end if
       if (t_ramp > 0.0_rp) lines = lines//', ramp '//real_str(t_ramp)//' s'
+      if (wm%t_start > 0.0_rp) lines = lines//', starting at t = '//real_str(wm%t_start)//' s'
    end subroutine paddle_init
 
    logical function paddle_is_flap()
       paddle_is_flap = wm%paddle == 'flap'
    end function paddle_is_flap
 
-   !> Displacement X and velocity U of the paddle face at the still-water level.
-   subroutine paddle_motion(t, x, u)
-      real(rp), intent(in) :: t
+   !> Displacement X and velocity U of the paddle face at the still-water
+   !> level at time t_run; the signal's clock starts at t_start.
+   subroutine paddle_motion(t_run, x, u)
+      real(rp), intent(in) :: t_run
       real(rp), intent(out) :: x, u
-      real(rp) :: r, dr, x0, u0
+      real(rp) :: r, dr, x0, u0, t
       x = 0.0_rp
       u = 0.0_rp
       if (.not. ready) return
+      t = t_run - wm%t_start
+      if (t <= 0.0_rp) return
       if (wm%wave == 'regular') then
          ! starts at rest: sin(w t) and the second harmonic both vanish at t = 0
          x0 = amp1*sin(omega*t) + amp2*sin(2.0_rp*omega*t)
