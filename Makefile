@@ -32,7 +32,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test unit unit-debug pytest run dambreak breakwater lint bench clean figures paper stability study
+.PHONY: all debug deps test unit unit-debug pytest run dambreak breakwater lint bench bench-mpi clean figures paper stability study
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -133,6 +133,11 @@ study: deps build/mbsph
 
 bench: deps build/mbsph
 	$(PYTHON) bench/run_bench.py
+
+# strong and weak scaling on 1 and 2 MPI ranks (doc/performance.md#several-ranks)
+bench-mpi: deps build/mbsph
+	$(PYTHON) bench/run_mpi.py strong
+	$(PYTHON) bench/run_mpi.py weak
 
 clean:
 	rm -rf build
