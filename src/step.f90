@@ -88,15 +88,17 @@ contains
       type(forces_work_t), intent(in) :: w
       type(body_t), intent(in) :: bodies(:)
       type(contact_t), intent(in) :: ct
-      real(rp) :: a2, m(4)
+      real(rp) :: a2, m(4), amax2, cmax
       integer :: i
-      ! largest squared acceleration, sound speed and viscous speed; stiffest contact
-      m = [0.0_rp, prm%c0, w%mumax, -huge(1.0_rp)]
+      amax2 = 0.0_rp
+      cmax = prm%c0
       do i = 1, p%n_own
          if (p%kind(i) /= kind_fluid) cycle
-         m(1) = max(m(1), w%acc(1, i)**2 + w%acc(2, i)**2)
-         m(2) = max(m(2), w%cs(i))
+         amax2 = max(amax2, w%acc(1, i)**2 + w%acc(2, i)**2)
+         cmax = max(cmax, w%cs(i))
       end do
+      ! largest squared acceleration, sound speed and viscous speed; stiffest contact
+      m = [amax2, cmax, w%mumax, -huge(1.0_rp)]
       if (size(bodies) > 0) m(4) = -ct%dt_limit
       call comm_max(m)
       dt = prm%h/(m(2) + m(3))
