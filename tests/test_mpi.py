@@ -157,6 +157,42 @@ def test_bodies_in_contact_same_on_two_ranks(tmp_path: Path, mbsph: Path) -> Non
     assert_same_bodies(tmp_path / "one" / "OUT", out, "stacked boxes, 1 and 2 ranks")
 
 
+def wave_case(name: str) -> str:
+    """The wave flume (piston, gauges, damping zone) and the armoured breakwater of
+    tests/test_waves.py, 200 steps, gauges every step; the gauges at x = 1.5 m sit on
+    the slab edge of two ranks."""
+    from test_waves import BW_BASE, WAVE_BASE
+    run_line = ("t_end = 1.0, dt_out = 1.0, out_dir = 'OUT', max_steps = 200, gauge_interval = 1e-6, "
+                "overwrite = .true.")
+    if name == "flume":
+        text = WAVE_BASE.replace("t_end = 0.01, dt_out = 0.01, out_dir = 'OUT', max_steps = 1", run_line)
+        return text + ("&gauge kind = 'elevation', x = 1.5 /\n"
+                       "&gauge kind = 'pressure', x = 1.5, y = 0.05 /\n")
+    text = BW_BASE.replace("t_end = 0.01, dt_out = 0.01, out_dir = 'OUT', max_steps = 1", run_line)
+    return text + "&gauge kind = 'elevation', x = 0.6 /\n"
+
+
+@pytest.mark.parametrize("name", ["flume", "breakwater"])
+def test_waves_and_armour_same_on_two_ranks(name: str, tmp_path: Path, mbsph: Path) -> None:
+    text = wave_case(name)
+    ok(run(text, tmp_path / "one", 1, mbsph)[0])
+    ok(run(text, tmp_path / "two", RANKS, mbsph)[0])
+    a, b = tmp_path / "one" / "OUT", tmp_path / "two" / "OUT"
+    assert_same_state(a, b, f"{name}, 1 and 2 ranks")
+    from post.waves import read_gauges
+    _, ta, ga = read_gauges(a)
+    _, tb, gb = read_gauges(b)
+    assert len(ta) == len(tb) > 100
+    for col in ga:
+        x, y = ga[col], gb[col]
+        np.testing.assert_array_equal(np.isnan(x), np.isnan(y), err_msg=f"{name}: {col} dry at other times")
+        scale = float(np.nanmax(np.abs(x))) or 1.0
+        err = float(np.nanmax(np.abs(x - y)))
+        assert err <= REL * scale, f"{name}: gauge {col} differs by {err:.3e} (scale {scale:.3e})"
+    if (a / "bodies.csv").exists():
+        assert_same_bodies(a, b, f"{name}, 1 and 2 ranks")
+
+
 @pytest.mark.parametrize("first, second", [(2, 1), (1, 2), (2, 2)])
 def test_restart_on_another_rank_count(first: int, second: int, serial_dambreak: Path, tmp_path: Path,
                                        mbsph: Path) -> None:
