@@ -62,7 +62,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
     cg = n1 * L / T
     layers = math.ceil(2.0 * 1.4142135623730951 - 1e-9)
     thick = layers * dp
-    x0 = 0.1 + thick
+    x0 = 0.11 + thick          # room for the paddle moving max_stroke/2 = 0.1 m back
     x_end = x0 + (max(gauges_at) + 0.25 + damping_len) * L
     x_end = x0 + math.ceil((x_end - x0) / dp) * dp
     gx = [x0 + a * L for a in gauges_at]
@@ -101,7 +101,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
 &box role = 'fluid', xmin = {x0:.6f}, xmax = {x_end:.6f}, ymin = 0.0, ymax = {depth:.6f} /
 &wavemaker
   paddle = '{paddle}', wave = 'regular', x0 = {x0:.6f}, depth = {depth}
-  height = {H:.6f}, period = {T:.6f}, ramp_periods = {ramp_periods}
+  height = {H:.6f}, period = {T:.6f}, ramp_periods = {ramp_periods}, max_stroke = 0.2
   second_order = {'.true.' if second_order else '.false.'}
 /
 {gauges}
