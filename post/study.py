@@ -34,15 +34,17 @@ the solver's output ``out/``, ``stdout.txt`` and ``result.json``. A run whose
 interrupted study resumes where it stopped; ``--retry-failed`` reruns the runs that
 failed. Per run the CSV ``<out>/results.csv`` records the parameters, the error and its
 extras, particles, steps, the solver's wall time and phase times (run.log), the
-microseconds per particle-step, the process's elapsed time and its peak resident memory
-(ru_maxrss of the solver, through /usr/bin/time), the CPU time. Figures: ``<out>/error_cost.png`` (error against wall time,
-log-log, the Pareto front marked) and, when dp varies, ``<out>/error_dp.png`` (error
+microseconds per particle-step, the process's elapsed and CPU time and the solver's peak
+resident memory (ru_maxrss, through /usr/bin/time). Figures: ``<out>/error_cost.png``
+(error against the cost, log-log, the Pareto front marked; the cost is the wall time, or
+the CPU time with ``--cost cpu_s``) and, when dp varies, ``<out>/error_dp.png`` (error
 against dp, with the observed order of convergence fitted per line).
 
 ``--doc FILE`` replaces, in FILE, the text between ``<!-- study:NAME -->`` and
 ``<!-- /study:NAME -->`` with the table of study NAME (the TOML stem), and between
 ``<!-- study:recommend -->`` and ``<!-- /study:recommend -->`` with the cheapest run of
-every case for each of its target errors over all the studies given; ``--img DIR``
+every case for each of its target errors over all the studies given and the finished
+studies beside them; ``--img DIR``
 copies the figures to ``DIR/study_NAME_*.png``.
 """
 from __future__ import annotations
@@ -80,6 +82,11 @@ ALIASES = {name: ("numerics", name) for name in (
     "dp", "h_over_dp", "kernel", "integrator", "cfl", "viscosity", "alpha", "nu", "cs_sps", "ci_sps",
     "diffusion", "delta", "kernel_correction", "shepard_every", "verlet_every")}
 ALIASES.update({"contact": ("contact", "model"), "t_end": ("run", "t_end")})
+
+#: the cost axis of the figures, the Pareto front and the recommendation: the solver's
+#: wall time of its time loop ("wall_s") or the process's CPU time ("cpu_s", which other
+#: processes on a shared machine do not inflate)
+COST = {"wall_s": "wall time of the run (s)", "cpu_s": "CPU time of the run (s)"}
 
 #: columns of results.csv after the parameters and before the error extras
 CSV_COLUMNS = ["run", "status", "error", "particles", "steps", "t_reached", "lost", "wall_s",
@@ -359,7 +366,7 @@ def default_workers(ranks: int = 1) -> int:
 
 
 def run_study(study: Study, binary: Path = ROOT / "build" / "mbsph", workers: int | None = None,
-              nice: int = 0, retry_failed: bool = False) -> list[dict[str, Any]]:
+              nice: int = 0, retry_failed: bool = False, cost: str = "wall_s") -> list[dict[str, Any]]:
     """Run (or resume) every run of the study; write results.csv and the figures; return the rows."""
     study.out.mkdir(parents=True, exist_ok=True)
     n = workers if workers else (study.workers or default_workers(study.ranks))
@@ -373,7 +380,7 @@ def run_study(study: Study, binary: Path = ROOT / "build" / "mbsph", workers: in
     for r in rows:
         r.pop("skipped", None)
     write_csv(study, rows)
-    figures(study, rows)
+    figures(study, rows, cost)
     return rows
 
 
@@ -449,12 +456,12 @@ def order_lines(study: Study, rows: list[dict[str, Any]]) -> list[tuple[dict[str
     return out
 
 
-def figures(study: Study, rows: list[dict[str, Any]]) -> list[Path]:
+def figures(study: Study, rows: list[dict[str, Any]], cost: str = "wall_s") -> list[Path]:
     """error_cost.png (and error_dp.png when dp varies) in the study folder."""
     from .plotting import plt, save_figure
     written = []
     err = np.array([float(r.get("error", np.nan)) for r in rows])
-    wall = np.array([float(r.get("wall_s", np.nan)) for r in rows])
+    wall = np.array([float(r.get(cost, np.nan)) for r in rows])
     if not np.any(np.isfinite(err) & np.isfinite(wall) & (err > 0)):
         return written
     front = pareto_front(wall, err)
@@ -464,7 +471,7 @@ def figures(study: Study, rows: list[dict[str, Any]]) -> list[Path]:
     for i in front:
         ax.annotate(_label({k: rows[i][k] for k in study.parameters}), (wall[i], err[i]), fontsize=7,
                     xytext=(4, 4), textcoords="offset points")
-    ax.set_xlabel("wall time of the run (s)")
+    ax.set_xlabel(COST[cost])
     ax.set_ylabel(f"relative error: {study.case.error}", fontsize=8)
     ax.set_title(f"study {study.name}: {study.case.reference}", fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
@@ -491,24 +498,28 @@ def figures(study: Study, rows: list[dict[str, Any]]) -> list[Path]:
     return written
 
 
-def table(study: Study, rows: list[dict[str, Any]]) -> str:
-    """Markdown table of a study: parameters, error, cost; Pareto runs marked."""
+def table(study: Study, rows: list[dict[str, Any]], cost: str = "wall_s") -> str:
+    """Markdown table of a study: parameters, error and the case's extras, cost; Pareto runs
+    (error against ``cost``) marked."""
     err = [float(r.get("error", np.nan)) for r in rows]
-    wall = [float(r.get("wall_s", np.nan)) for r in rows]
+    wall = [float(r.get(cost, np.nan)) for r in rows]
     front = set(pareto_front(wall, err))
     params = list(study.parameters)
-    head = params + ["error", "particles", "steps", "wall [s]", "us/particle-step", "peak RSS [MB]", "Pareto"]
+    extras = [k for k in columns(study, rows) if k not in params and k not in CSV_COLUMNS]
+    head = params + ["error"] + extras + ["particles", "steps", "wall [s]", "CPU [s]", "us/particle-step",
+                                          "peak RSS [MB]", "Pareto"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+
+    def num(v: Any, fmt: str) -> str:
+        return format(float(v), fmt) if _finite(v) else "-"
     for i, r in enumerate(rows):
         e = err[i]
         cells = [_fmt(r.get(k)) for k in params]
         cells.append(f"{100 * e:.3g} %" if np.isfinite(e) else str(r.get("status")))
-        cells += [f"{int(r['particles'])}" if _finite(r.get("particles")) else "-",
-                  f"{int(r['steps'])}" if _finite(r.get("steps")) else "-",
-                  f"{wall[i]:.3g}" if np.isfinite(wall[i]) else "-",
-                  f"{float(r['us_per_particle_step']):.3f}" if _finite(r.get("us_per_particle_step")) else "-",
-                  f"{float(r['peak_rss_mb']):.0f}" if _finite(r.get("peak_rss_mb")) else "-",
-                  "*" if i in front else ""]
+        cells += [num(r.get(k), ".3g") for k in extras]
+        cells += [num(r.get("particles"), ".0f"), num(r.get("steps"), ".0f"), num(r.get("wall_s"), ".3g"),
+                  num(r.get("cpu_s"), ".3g"), num(r.get("us_per_particle_step"), ".3f"),
+                  num(r.get("peak_rss_mb"), ".0f"), "*" if i in front else ""]
         out.append("| " + " | ".join(cells) + " |")
     for others, idx, p, _ in order_lines(study, rows):
         what = f" ({_label(others)})" if others else ""
@@ -524,10 +535,11 @@ def _finite(v: Any) -> bool:
         return False
 
 
-def recommend(studies: list[tuple[Study, list[dict[str, Any]]]]) -> str:
-    """For each case and each of its target errors, the cheapest run (wall time) of all the
-    given studies that meets it."""
-    out = ["| case | target error | cheapest settings | error | wall [s] | study |", "|---|---|---|---|---|---|"]
+def recommend(studies: list[tuple[Study, list[dict[str, Any]]]], cost: str = "wall_s") -> str:
+    """For each case and each of its target errors, the cheapest run (by ``cost``) of all
+    the given studies that meets it."""
+    unit = {"wall_s": "wall [s]", "cpu_s": "CPU [s]"}[cost]
+    out = [f"| case | target error | cheapest settings | error | {unit} | study |", "|---|---|---|---|---|---|"]
     by_case: dict[str, list[tuple[Study, dict[str, Any]]]] = {}
     for st, rows in studies:
         by_case.setdefault(st.case.name, []).extend((st, r) for r in rows)
@@ -535,16 +547,18 @@ def recommend(studies: list[tuple[Study, list[dict[str, Any]]]]) -> str:
         case = CASES[name]
         for target in case.targets:
             ok = [(st, r) for st, r in items if _finite(r.get("error")) and float(r["error"]) <= target
-                  and _finite(r.get("wall_s"))]
+                  and _finite(r.get(cost))]
             if not ok:
                 out.append(f"| {name} | {100 * target:.3g} % | none of the runs | - | - | - |")
                 continue
-            st, r = min(ok, key=lambda sr: float(sr[1]["wall_s"]))
-            settings = {**st.fixed, **{k: r[k] for k in st.parameters}}
+            st, r = min(ok, key=lambda sr: float(sr[1][cost]))
+            settings = {k: v for k, v in {**st.fixed, **{k: r[k] for k in st.parameters}}.items()
+                        if not (k.startswith("run.") or k == "t_end")}
             if "resolution" in settings:
-                settings["dp"] = _dp_of(st, r)
-            out.append(f"| {name} | {100 * target:.3g} % | {_label(settings)} | {100 * float(r['error']):.3g} % | "
-                       f"{float(r['wall_s']):.3g} | {st.name} |")
+                n = settings.pop("resolution")
+                settings = {"dp": f"{case.length_name}/{_fmt(n)} = {_fmt(_dp_of(st, r))} m", **settings}
+            out.append(f"| {name} | {100 * target:.3g} % | {_label(settings) or 'base case'} | {100 * float(r['error']):.3g} % | "
+                       f"{float(r[cost]):.3g} | {st.name} |")
     return "\n".join(out)
 
 
@@ -585,6 +599,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--retry-failed", action="store_true", help="run again the runs that failed")
     ap.add_argument("--doc", type=Path, default=None, help="Markdown file whose study blocks are replaced")
     ap.add_argument("--img", type=Path, default=None, help="copy the figures here as study_NAME_*.png")
+    ap.add_argument("--cost", choices=list(COST), default="wall_s",
+                    help="cost axis of the figures, Pareto front and recommendation (default wall_s)")
     ap.add_argument("--dry-run", action="store_true", help="list the runs and write their case files only")
     args = ap.parse_args(argv)
     try:
@@ -604,7 +620,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 (folder / "case.nml").write_text(case_text(st, v))
                 print(folder / "case.nml")
             continue
-        rows = run_study(st, args.binary, args.workers, args.nice, args.retry_failed)
+        rows = run_study(st, args.binary, args.workers, args.nice, args.retry_failed, args.cost)
         done.append((st, rows))
         if args.img:
             for fig in ("error_cost", "error_dp"):
@@ -615,8 +631,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.doc and done:
         text = args.doc.read_text()
         for st, rows in done:
-            text = replace_block(text, st.name, table(st, rows))
-        text = replace_block(text, "recommend", recommend(done + _other_results(studies)))
+            text = replace_block(text, st.name, table(st, rows, args.cost))
+        text = replace_block(text, "recommend", recommend(done + _other_results(studies), args.cost))
         args.doc.write_text(text)
         print(f"wrote the tables into {args.doc}")
     failed = [(st.name, r["run"]) for st, rows in done for r in rows if r.get("status") != "ok"]
