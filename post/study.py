@@ -23,7 +23,7 @@ values to try::
     kernel = ["wendland", "cubic"]
 
 A parameter is a short name (dp, h_over_dp, kernel, integrator, cfl, viscosity, alpha,
-nu, diffusion, delta, kernel_correction, shepard_every, verlet_every: group &numerics;
+nu, diffusion, delta, kernel_correction, shepard_every, verlet_every, boundary: &numerics;
 contact: &contact model; t_end: &run), ``resolution`` (dp = L/N with the case's length
 L), or any namelist variable as ``group.variable`` (every instance of a repeated
 group) or ``group[i].variable`` (its i-th instance, from 1).
@@ -80,7 +80,7 @@ ROOT = Path(__file__).resolve().parent.parent
 #: short parameter names and the namelist variable they set
 ALIASES = {name: ("numerics", name) for name in (
     "dp", "h_over_dp", "kernel", "integrator", "cfl", "viscosity", "alpha", "nu", "cs_sps", "ci_sps",
-    "diffusion", "delta", "kernel_correction", "shepard_every", "verlet_every")}
+    "diffusion", "delta", "kernel_correction", "shepard_every", "verlet_every", "boundary")}
 ALIASES.update({"contact": ("contact", "model"), "t_end": ("run", "t_end")})
 
 #: the cost axis of the figures, the Pareto front and the recommendation: the solver's

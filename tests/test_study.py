@@ -177,3 +177,23 @@ def test_replace_block() -> None:
     doc = "a\n<!-- study:x -->\nold\n<!-- /study:x -->\nb\n"
     assert st.replace_block(doc, "x", "new") == "a\n<!-- study:x -->\nnew\n<!-- /study:x -->\nb\n"
     assert st.replace_block(doc, "y", "new") == doc
+
+
+def test_tc3_converges_at_first_order_or_better(tmp_path: Path, mbsph: Path) -> None:
+    """TC3 receding discs (study/tc3_dp.toml) at D/6, D/12, D/24: the error of the discs'
+    motion against slide-then-roll falls at every refinement, with an observed order of at
+    least 1 (the particle outline of a disc, which carries the contact and the rolling
+    radius, is first-order accurate in dp). About 10 s of CPU time."""
+    text = (ROOT / "study" / "tc3_dp.toml").read_text().replace("[study]", f'[study]\nout = "{tmp_path / "out"}"')
+    path = tmp_path / "tc3_dp.toml"
+    path.write_text(text)
+    study = st.load_study(path)
+    assert study.parameters == {"resolution": [6, 12, 24]}
+    rows = st.run_study(study, binary=mbsph, workers=1)
+    err = [r["error"] for r in rows]
+    assert all(r["status"] == "ok" for r in rows)
+    assert err[0] > err[1] > err[2], f"errors {err} do not fall with dp"
+    dp = [st._dp_of(study, r) for r in rows]
+    order, _ = st.observed_order(dp, err)
+    # 1.0: first order, the accuracy of the particle outline of the discs
+    assert order >= 1.0, f"observed order {order:.2f} over dp = {dp}, errors {err}"
