@@ -125,11 +125,12 @@ stability: deps build/mbsph
 
 # accuracy against cost: every study of study/*.toml (resumable: finished runs are
 # kept in OUT/study/), its tables into doc/accuracy-cost.md, its figures into doc/img;
+# cost = CPU time of each run, which other processes do not inflate;
 # `make study STUDIES=study/tank_dp.toml` for one, STUDY_FLAGS="--workers 1" to limit
 STUDIES     ?= $(sort $(wildcard study/*.toml))
 STUDY_FLAGS ?= --nice 10
 study: deps build/mbsph
-	$(PYTHON) -m post.study $(STUDIES) --doc doc/accuracy-cost.md --img doc/img $(STUDY_FLAGS)
+	$(PYTHON) -m post.study $(STUDIES) --doc doc/accuracy-cost.md --img doc/img --cost cpu_s $(STUDY_FLAGS)
 
 bench: deps build/mbsph
 	$(PYTHON) bench/run_bench.py

@@ -30,9 +30,10 @@ group) or ``group[i].variable`` (its i-th instance, from 1).
 
 Each run gets its own folder ``<out>/<name from its values>/`` holding ``case.nml``,
 the solver's output ``out/``, ``stdout.txt`` and ``result.json``. A run whose
-``result.json`` exists and whose case file is unchanged is not run again, so an
-interrupted study resumes where it stopped; ``--retry-failed`` reruns the runs that
-failed. Per run the CSV ``<out>/results.csv`` records the parameters, the error and its
+``result.json`` exists, whose case file is unchanged and which the same build of the
+solver made (SHA-256 of the binary) is not run again, so an interrupted study resumes
+where it stopped; ``--retry-failed`` reruns the runs that failed, ``--any-binary`` keeps
+runs of another build. Per run the CSV ``<out>/results.csv`` records the parameters, the error and its
 extras, particles, steps, the solver's wall time and phase times (run.log), the
 microseconds per particle-step, the process's elapsed and CPU time and the solver's peak
 resident memory (ru_maxrss, through /usr/bin/time). Figures: ``<out>/error_cost.png``
@@ -44,13 +45,17 @@ against dp, with the observed order of convergence fitted per line).
 ``<!-- /study:NAME -->`` with the table of study NAME (the TOML stem), and between
 ``<!-- study:recommend -->`` and ``<!-- /study:recommend -->`` with the cheapest run of
 every case for each of its target errors over all the studies given and the finished
-studies beside them; ``--img DIR``
+studies beside them, and between ``<!-- study:side:PARAM -->`` and
+``<!-- /study:side:PARAM -->`` with the studies whose only parameter is PARAM side by
+side, and between ``<!-- study:total -->`` and ``<!-- /study:total -->`` with the count
+of runs and their CPU time; ``--img DIR``
 copies the figures to ``DIR/study_NAME_*.png``.
 """
 from __future__ import annotations
 
 import argparse
 import csv
+import hashlib
 import itertools
 import json
 import math
@@ -91,7 +96,7 @@ COST = {"wall_s": "wall time of the run (s)", "cpu_s": "CPU time of the run (s)"
 #: columns of results.csv after the parameters and before the error extras
 CSV_COLUMNS = ["run", "status", "error", "particles", "steps", "t_reached", "lost", "wall_s",
                "us_per_particle_step", "elapsed_s", "cpu_s", "peak_rss_mb", "setup_s", "grid_s", "pair_loop_s",
-               "bodies_s", "integrate_s", "output_s", "comm_s"]
+               "bodies_s", "integrate_s", "output_s", "comm_s", "solver"]
 
 
 @dataclass
@@ -307,9 +312,15 @@ def _command(study: Study, binary: Path, nice: int) -> list[str]:
     return cmd
 
 
+def solver_id(binary: Path) -> str:
+    """Fingerprint of the solver build (SHA-256 of the binary, 16 hex digits)."""
+    return hashlib.sha256(Path(binary).read_bytes()).hexdigest()[:16]
+
+
 def _run_one(study: Study, values: dict[str, Any], binary: Path, nice: int, retry_failed: bool,
-             lock: threading.Lock) -> dict[str, Any]:
-    """Run one combination unless its result is already there; return its CSV row."""
+             lock: threading.Lock, solver: str | None) -> dict[str, Any]:
+    """Run one combination unless its result is already there (same case file and, unless
+    ``solver`` is None, the same solver build); return its CSV row."""
     name = run_name(values)
     folder = study.out / name
     folder.mkdir(parents=True, exist_ok=True)
@@ -317,7 +328,8 @@ def _run_one(study: Study, values: dict[str, Any], binary: Path, nice: int, retr
     case, result = folder / "case.nml", folder / "result.json"
     if result.is_file() and case.is_file() and case.read_text() == text:
         row = json.loads(result.read_text())
-        if row.get("status") == "ok" or not retry_failed:
+        same = solver is None or row.get("solver") == solver
+        if same and (row.get("status") == "ok" or not retry_failed):
             row["skipped"] = True
             return row
     result.unlink(missing_ok=True)
@@ -334,7 +346,7 @@ def _run_one(study: Study, values: dict[str, Any], binary: Path, nice: int, retr
         rss_kb = float((folder / "rss_kb.txt").read_text().split()[-1])
     except (OSError, ValueError, IndexError):
         pass  # no GNU time: the peak memory is not known
-    row: dict[str, Any] = {"run": name, **values, "elapsed_s": round(elapsed, 3),
+    row: dict[str, Any] = {"run": name, **values, "solver": solver_id(binary), "elapsed_s": round(elapsed, 3),
                            "cpu_s": round(usage.ru_utime + usage.ru_stime, 3),
                            "peak_rss_mb": round(rss_kb / 1024.0, 1)}
     runlog = folder / "out" / "run.log"
@@ -366,15 +378,18 @@ def default_workers(ranks: int = 1) -> int:
 
 
 def run_study(study: Study, binary: Path = ROOT / "build" / "mbsph", workers: int | None = None,
-              nice: int = 0, retry_failed: bool = False, cost: str = "wall_s") -> list[dict[str, Any]]:
-    """Run (or resume) every run of the study; write results.csv and the figures; return the rows."""
+              nice: int = 0, retry_failed: bool = False, cost: str = "wall_s",
+              any_binary: bool = False) -> list[dict[str, Any]]:
+    """Run (or resume) every run of the study; write results.csv and the figures; return the rows.
+    A finished run made by another build of the solver is run again unless ``any_binary``."""
+    solver = None if any_binary else solver_id(binary)
     study.out.mkdir(parents=True, exist_ok=True)
     n = workers if workers else (study.workers or default_workers(study.ranks))
     lock = threading.Lock()
     print(f"study '{study.name}': case '{study.case.name}', {len(study.runs)} runs, {n} at a time, "
           f"output {study.out}", flush=True)
     with ThreadPoolExecutor(max_workers=n) as pool:
-        rows = list(pool.map(lambda v: _run_one(study, v, binary, nice, retry_failed, lock), study.runs))
+        rows = list(pool.map(lambda v: _run_one(study, v, binary, nice, retry_failed, lock, solver), study.runs))
     done = sum(1 for r in rows if not r.get("skipped"))
     print(f"study '{study.name}': {done} run(s) made, {len(rows) - done} already done", flush=True)
     for r in rows:
@@ -553,13 +568,43 @@ def recommend(studies: list[tuple[Study, list[dict[str, Any]]]], cost: str = "wa
                 continue
             st, r = min(ok, key=lambda sr: float(sr[1][cost]))
             settings = {k: v for k, v in {**st.fixed, **{k: r[k] for k in st.parameters}}.items()
-                        if not (k.startswith("run.") or k == "t_end")}
-            if "resolution" in settings:
-                n = settings.pop("resolution")
-                settings = {"dp": f"{case.length_name}/{_fmt(n)} = {_fmt(_dp_of(st, r))} m", **settings}
-            out.append(f"| {name} | {100 * target:.3g} % | {_label(settings) or 'base case'} | {100 * float(r['error']):.3g} % | "
+                        if not (k.startswith("run.") or k in ("t_end", "dp", "resolution"))}
+            dp = _dp_of(st, r)
+            res = f"{case.length_name}/{_fmt(case.length / dp)} = " if case.length else ""
+            settings = {"dp": f"{res}{_fmt(dp)} m", **settings}
+            out.append(f"| {name} | {100 * target:.3g} % | {_label(settings)} | {100 * float(r['error']):.3g} % | "
                        f"{float(r[cost]):.3g} | {st.name} |")
     return "\n".join(out)
+
+
+def side_by_side(studies: list[tuple[Study, list[dict[str, Any]]]], param: str, cost: str = "wall_s") -> str:
+    """One row per value of ``param``, and the error and cost of every study whose only
+    parameter is ``param`` side by side (e.g. the contact models on several cases)."""
+    chosen = [(st, rows) for st, rows in studies if list(st.parameters) == [param]]
+    unit = {"wall_s": "wall [s]", "cpu_s": "CPU [s]"}[cost]
+    head = [param] + [f"{st.case.name} {w}" for st, _ in chosen for w in ("error", unit)]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    values: list[Any] = []
+    for st, _ in chosen:
+        values += [v for v in st.parameters[param] if v not in values]
+    for v in values:
+        cells = [_fmt(v)]
+        for st, rows in chosen:
+            r = next((r for r in rows if _fmt(r.get(param)) == _fmt(v)), None)
+            e = float(r["error"]) if r is not None and _finite(r.get("error")) else float("nan")
+            cells.append(f"{100 * e:.3g} %" if math.isfinite(e) else "-")
+            cells.append(f"{float(r[cost]):.3g}" if r is not None and _finite(r.get(cost)) else "-")
+        out.append("| " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def totals(studies: list[tuple[Study, list[dict[str, Any]]]]) -> str:
+    """One line: studies, runs, and their summed CPU and elapsed time."""
+    rows = [r for _, rs in studies for r in rs]
+    cpu = sum(float(r["cpu_s"]) for r in rows if _finite(r.get("cpu_s")))
+    elapsed = sum(float(r["elapsed_s"]) for r in rows if _finite(r.get("elapsed_s")))
+    return (f"{len(studies)} studies, {len(rows)} runs, {cpu / 60:.1f} minutes of CPU time "
+            f"({elapsed / 60:.1f} minutes elapsed, one run at a time).")
 
 
 def _other_results(studies: list[Study]) -> list[tuple[Study, list[dict[str, Any]]]]:
@@ -597,6 +642,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--nice", type=int, default=0, help="run the solver under nice -n N")
     ap.add_argument("--binary", type=Path, default=ROOT / "build" / "mbsph", help="solver (default build/mbsph)")
     ap.add_argument("--retry-failed", action="store_true", help="run again the runs that failed")
+    ap.add_argument("--any-binary", action="store_true",
+                    help="keep finished runs made by another build of the solver (default: run them again)")
     ap.add_argument("--doc", type=Path, default=None, help="Markdown file whose study blocks are replaced")
     ap.add_argument("--img", type=Path, default=None, help="copy the figures here as study_NAME_*.png")
     ap.add_argument("--cost", choices=list(COST), default="wall_s",
@@ -620,7 +667,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 (folder / "case.nml").write_text(case_text(st, v))
                 print(folder / "case.nml")
             continue
-        rows = run_study(st, args.binary, args.workers, args.nice, args.retry_failed, args.cost)
+        rows = run_study(st, args.binary, args.workers, args.nice, args.retry_failed, args.cost, args.any_binary)
         done.append((st, rows))
         if args.img:
             for fig in ("error_cost", "error_dp"):
@@ -632,7 +679,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         text = args.doc.read_text()
         for st, rows in done:
             text = replace_block(text, st.name, table(st, rows, args.cost))
-        text = replace_block(text, "recommend", recommend(done + _other_results(studies), args.cost))
+        everything = done + _other_results(studies)
+        text = replace_block(text, "recommend", recommend(everything, args.cost))
+        text = replace_block(text, "total", totals(everything))
+        for param in re.findall(r"<!-- study:side:([\w.\[\]]+) -->", text):
+            text = replace_block(text, f"side:{param}", side_by_side(everything, param, args.cost))
         args.doc.write_text(text)
         print(f"wrote the tables into {args.doc}")
     failed = [(st.name, r["run"]) for st, rows in done for r in rows if r.get("status") != "ok"]

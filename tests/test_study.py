@@ -66,6 +66,12 @@ def test_tiny_study_csv_and_resume(tmp_path: Path, mbsph: Path, capsys: pytest.C
     assert "0 run(s) made, 2 already done" in capsys.readouterr().out
     assert {p: p.stat().st_mtime_ns for p in (tmp_path / "out").glob("*/out/run.log")} == stamps
     assert [r["error"] for r in again] == [r["error"] for r in rows]
+    # another build of the solver (here: the same with one byte appended) runs them again
+    other = tmp_path / "mbsph_other"
+    other.write_bytes(mbsph.read_bytes() + b"\0")
+    other.chmod(0o755)
+    st.run_study(st.load_study(write_study(tmp_path, TINY)), binary=other)
+    assert "2 run(s) made, 0 already done" in capsys.readouterr().out
 
 
 def test_pareto_front() -> None:
