@@ -22,7 +22,7 @@ from typing import Callable
 import f90nml
 import numpy as np
 
-from . import dambreak, hydrostatic
+from . import dambreak, hydrostatic, waves
 from . import paper_cases as pc
 from .io import fluid_box, list_snapshots, read_case, read_csv, read_snapshot
 
@@ -201,6 +201,24 @@ def tc4_measure(out: Path) -> dict[str, float]:
     return {"error": worst, "drift_dp": drift}
 
 
+def waves_measure(out: Path) -> dict[str, float]:
+    """Regular waves in a flume (post/wave_cases.py layout): the first-harmonic height at
+    every elevation gauge over the last three periods of the run (post.waves), against the
+    &wavemaker target height; error: the largest |H / H_target - 1|. Extras: the signed
+    ratio at the first and the last gauge, and the largest relative period error."""
+    target = waves.wavemaker_settings(read_case(out))
+    gauges, t, cols = waves.read_gauges(out)
+    ratios, period_err = [], 0.0
+    for g in gauges:
+        if g.kind != "elevation":
+            continue
+        w = waves.regular_wave_height(t, cols[g.column], target["T"], t_start=t[-1] - 3.0 * target["T"], t_end=t[-1])
+        ratios.append(w.H / target["H"] - 1.0)
+        period_err = max(period_err, abs(w.T_fit / target["T"] - 1.0))
+    return {"error": float(np.max(np.abs(ratios))), "height_first_gauge": ratios[0],
+            "height_last_gauge": ratios[-1], "period_error": period_err}
+
+
 # ------------------------------------------------------------------ geometry that follows dp
 
 
@@ -220,6 +238,37 @@ def tc3_adapt(nml: f90nml.Namelist) -> None:
         _widen_domain(nml, float(b["xmin"]), float(b["xmax"]), float(b["ymin"]), float(b["ymax"]))
     bodies = groups(nml, "body")
     bodies[1]["x"] = _r(float(bodies[0]["x"]) + 2.0 * pc.TC3_R + pc.TC3_PARTICLE_GAP - dp)
+
+
+def waves_adapt(nml: f90nml.Namelist) -> None:
+    """Flume of post/wave_cases.py: floor and end wall ceil(2h/dp) rows thick; the paddle
+    stays where the base file has it unless its rows (as thick as the walls) and the 0.1 m
+    that wave_cases leaves for its stroke need more room, then it moves right by that
+    (plus 1 mm); the gauges and the damping zone keep their distances from the paddle; the
+    flume's end a whole number of spacings from the paddle."""
+    dp = float(nml["numerics"]["dp"])
+    t = wall_layers(nml) * dp
+    fluid = next(b for b in groups(nml, "box") if str(b.get("role")).lower() == "fluid")
+    solids = [b for b in groups(nml, "box") if str(b.get("role", "solid")).lower() == "solid"]
+    floor = min(solids, key=lambda b: float(b["ymax"]))
+    wall = next(b for b in solids if b is not floor)
+    x0_old = float(fluid["xmin"])
+    x0 = _r(max(x0_old, t + 0.1 + 1e-3))
+    shift = x0 - x0_old
+    x_end = _r(x0 + math.ceil((float(fluid["xmax"]) - x0_old) / dp - 1e-9) * dp)
+    fluid["xmin"] = x0
+    for w in groups(nml, "wavemaker"):
+        w["x0"] = x0
+    for g in groups(nml, "gauge"):
+        g["x"] = _r(float(g["x"]) + shift)
+    for d in groups(nml, "damping"):
+        d["x0"] = _r(float(d["x0"]) + shift)
+        d["x1"] = x_end
+    fluid["xmax"] = wall["xmin"] = x_end
+    wall["xmax"] = floor["xmax"] = _r(x_end + t)
+    floor["ymin"] = _r(float(floor["ymax"]) - t)
+    nml["domain"]["xmax"] = _r(x_end + t + 0.01)
+    nml["domain"]["ymin"] = _r(float(floor["ymin"]) - 0.01)
 
 
 # ------------------------------------------------------------------ the registry
@@ -256,6 +305,12 @@ CASES: dict[str, ValidationCase] = {c.name: c for c in [
         "max over boxes |F_y / W - 1|, last 0.2 s",
         tc4_measure, tank_walls, length=0.06, length_name="box height",
         targets=(0.01, 0.0015, 0.0001)),
+    ValidationCase(
+        "waves", "input/waves_regular.nml",
+        "target height of the piston (Biesel), kh = 1.2, H/L = 0.03",
+        "max over the gauges (2 and 2.5 L from the paddle) |H / H_target - 1|, last 3 periods",
+        waves_measure, waves_adapt, length=0.25, length_name="depth",
+        targets=(0.3, 0.2, 0.15, 0.1)),
 ]}
 
 

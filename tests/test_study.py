@@ -203,3 +203,28 @@ def test_tc3_converges_at_first_order_or_better(tmp_path: Path, mbsph: Path) -> 
     order, _ = st.observed_order(dp, err)
     # 1.0: first order, the accuracy of the particle outline of the discs
     assert order >= 1.0, f"observed order {order:.2f} over dp = {dp}, errors {err}"
+
+
+def test_wave_flume_follows_dp(tmp_path: Path) -> None:
+    study = st.load_study(write_study(tmp_path, '[study]\ncase = "waves"\nout = "{out}"\n'
+                                      '[parameters]\nresolution = [15]\n', "flume"))
+    nml = f90nml.reads(st.case_text(study, study.runs[0]))
+    dp = nml["numerics"]["dp"]
+    floor, wall, fluid = nml["box"]
+    assert math.isclose(dp, 0.25 / 15, rel_tol=1e-9) and fluid["role"] == "fluid"
+    # 15 rows of water, the flume a whole number of spacings long from the paddle
+    assert math.isclose((fluid["ymax"] - fluid["ymin"]) / dp, 15.0, rel_tol=1e-9)
+    n = (fluid["xmax"] - fluid["xmin"]) / dp
+    assert abs(n - round(n)) < 1e-6
+    # floor and end wall three rows thick, the damping zone ends at the wall; the paddle
+    # moved to 0.1 m + 3 dp + 1 mm (room for its rows and stroke), gauges and damping zone
+    # as far from it as in the base file
+    assert math.isclose(floor["ymax"] - floor["ymin"], 3 * dp, rel_tol=1e-9)
+    assert math.isclose(wall["xmax"] - wall["xmin"], 3 * dp, rel_tol=1e-9) and wall["xmin"] == fluid["xmax"]
+    assert nml["damping"]["x1"] == fluid["xmax"]
+    x0 = nml["wavemaker"]["x0"]
+    assert x0 == fluid["xmin"] and math.isclose(x0, 0.1 + 3 * dp + 1e-3, rel_tol=1e-9)
+    base = f90nml.read(str(ROOT / "input" / "waves_regular.nml"))
+    for g, g0 in zip(nml["gauge"], base["gauge"]):
+        assert math.isclose(g["x"] - x0, g0["x"] - base["wavemaker"]["x0"], abs_tol=1e-9)
+    assert math.isclose(nml["damping"]["x0"] - x0, base["damping"]["x0"] - base["wavemaker"]["x0"], abs_tol=1e-9)
