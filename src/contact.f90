@@ -28,7 +28,9 @@ module contact
       real(rp) :: c = 0.0_rp          !< reference speed c0 of Eq. 4-6 [m/s]
       real(rp) :: r_f = 10.0_rp
       real(rp) :: q0 = 0.001_rp
+      real(rp) :: qb = 0.0_rp         !< q at which the barrier of R doubles it (0: no barrier)
       real(rp) :: v_stick = 1.0e-3_rp
+      real(rp) :: k_imp = 0.0_rp      !< K of the approach term K u_L^2 / h (Eq. 2-6 models)
       real(rp) :: max_penetration = 0.0_rp  !< largest overlap of two surfaces in the last evaluation [m]
       real(rp) :: dt_limit = huge(1.0_rp)   !< stable step for the stiffest contact of the last evaluation [s]
       ! Hertz: restitution e(alpha) of the damped Hertz spring on a grid of the
@@ -70,7 +72,10 @@ contains
       if (ct%c <= 0.0_rp) ct%c = sqrt(2.0_rp*max(prm%g, 1.0e-3_rp)*prm%h/(0.005_rp*ct%k10b2))
       ct%r_f = cfg%r_f
       ct%q0 = cfg%q0
+      ! the barrier acts from half the touching q on: q_t = dp/(4h)
+      ct%qb = cfg%barrier*0.125_rp*prm%dp/prm%h
       ct%v_stick = cfg%stick_velocity
+      ct%k_imp = cfg%impact
       if (ct%model == model_hertz) call tsuji_table(ct)
    end subroutine contact_init
 
@@ -328,7 +333,7 @@ contains
          psi = psi_c - 0.5_rp*prm%dp               ! distance of particle i from the other surface
          q = max(psi, 0.0_rp)/(2.0_rp*prm%h)
          if (q >= 1.0_rp) return
-         rq = (1.0_rp - q)/sqrt(q + ct%q0)         ! R(psi)/A, bounded at contact
+         rq = rhat(ct, q)                          ! R(psi)/A, bounded at contact
          ct%max_penetration = max(ct%max_penetration, prm%dp - psi_c)
          k = key_of(p%body(i), p%body(j))
          ct%kx(:, k) = ct%kx(:, k) + rq*pw*0.5_rp*(p%x(:, i) + p%x(:, j))
@@ -343,7 +348,7 @@ contains
       !> the particles themselves, so that rocking is damped.
       subroutine apply_eq_pairs()
          integer :: m, i, j, bi, bj
-         real(rp) :: xc(2), vrel(2), n(2), ul, a, fn, m_ij, rp_w, q, kstiff
+         real(rp) :: xc(2), vrel(2), n(2), ul, a, fn, m_ij, rp_w, q, kstiff, aimp
          do m = 1, ct%np
             i = ct%pij(1, m); j = ct%pij(2, m); bi = ct%pb(1, m); bj = ct%pb(2, m)
             n = ct%pn(:, m); rp_w = ct%pw(m); q = ct%pq(m)
@@ -355,16 +360,24 @@ contains
                ul = dot_product(vrel, n)
             end if
             a = coefficient_a(ct, ul, prm%h)
+            ! eps of Eq. 2, written as a term added to A: 1 at rest and receding;
+            ! approaching, the dynamic head of the relative approach K u_L^2 / h,
+            ! so that a fast impact meets a force that grows with its speed
+            aimp = 0.0_rp
+            if (ul < 0.0_rp) aimp = ct%k_imp*ul*ul/prm%h
             m_ij = pair_mass(bi, bj)
-            fn = m_ij*a*rp_w                          ! eps = 1 between solids
+            fn = m_ij*(a + aimp)*rp_w
             if (.not. abs(fn) > 0.0_rp) cycle
             if (ct%model /= model_noncohesive .or. ul <= 0.0_rp) then
-              call viscous(i, j, bi, bj, m_ij*ct%k10b2*ct%r_f*ct%c*rp_w/prm%h, n)
+              call viscous(i, j, bi, bj, m_ij*(ct%k10b2*ct%r_f*ct%c + 2.0_rp*ct%k_imp*abs(min(ul, 0.0_rp)))* &
+                           rp_w/prm%h, n)
             end if
-            ! stiffness of the static term for the time step: d(R)/d(psi)
-            kstiff = m_ij*ct%k10b2*0.005_rp*ct%c**2/prm%h*rp_w*sqrt(q + ct%q0)/(1.0_rp - q)/(2.0_rp*prm%h)* &
-                     (1.0_rp/sqrt(q + ct%q0) + 0.5_rp*(1.0_rp - q)/(q + ct%q0)**1.5_rp)
+            ! stiffness of the static term (and of the approach term, which
+            ! multiplies the same R) for the time step: d(R)/d(psi)
+            kstiff = m_ij*(ct%k10b2*0.005_rp*ct%c**2/prm%h + aimp)*rp_w/rhat(ct, q)*drhat(ct, q)/(2.0_rp*prm%h)
             ct%dt_limit = min(ct%dt_limit, 0.3_rp*sqrt(m_ij/max(kstiff, tiny(1.0_rp))))
+            ! resolve the approach: at most 0.05 dp of closing per step
+            if (ul < 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.05_rp*prm%dp/abs(ul))
             call apply(i, j, bi, bj, fn*n, .true.)
             if (fn > 0.0_rp) call friction(i, j, bi, bj, n, fn, vrel)
          end do
@@ -576,6 +589,26 @@ contains
          end do entries
       end do
    end subroutine merge_keys
+
+   !> R(psi)/A of Eq. 3: (1 - q)/sqrt(q + q0) times the barrier
+   !> 1 + (qb/(q + q0))^4, which leaves R as it is at touching distance and
+   !> above and makes it rise steeply before the particles reach the other
+   !> surface (q = 0), so that loads and impacts stop short of it.
+   pure real(rp) function rhat(ct, q) result(r)
+      type(contact_t), intent(in) :: ct
+      real(rp), intent(in) :: q
+      r = (1.0_rp - q)/sqrt(q + ct%q0)*(1.0_rp + (ct%qb/(q + ct%q0))**4)
+   end function rhat
+
+   !> -d(rhat)/dq, the stiffness of R for the time step.
+   pure real(rp) function drhat(ct, q) result(d)
+      type(contact_t), intent(in) :: ct
+      real(rp), intent(in) :: q
+      real(rp) :: s
+      s = q + ct%q0
+      d = (1.0_rp/sqrt(s) + 0.5_rp*(1.0_rp - q)/s**1.5_rp)*(1.0_rp + (ct%qb/s)**4) + &
+          (1.0_rp - q)/sqrt(s)*4.0_rp*ct%qb**4/s**5
+   end function drhat
 
    !> The coefficient A of Eq. 4 (repulsive), 5 (non-cohesive) or 6
    !> (non-cohesive with a static spring), per unit mass [m/s2].
