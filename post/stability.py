@@ -55,7 +55,9 @@ def main(argv=None) -> int:
         args.table.write_text("# Stability of hard contact cases\n\nMade by `make stability` "
                               "(`.venv/bin/python -m post.stability OUT/stability/* --table doc/stability.md`);\n"
                               "bars: interpenetration <= 0.5 dp, no body energy gain (above 1e-3 of the start), "
-                              "creep <= 0.1 dp over the last fifth of the run.\n\n" + "\n".join(lines) + "\n")
+                              "creep <= 0.1 dp over the last fifth of the run. The cases are input/stability/*.nml; "
+                              "a coarse subset of them (shorter runs) is in `make test`, tests/test_stability.py.\n\n"
+                              + "\n".join(lines) + "\n")
     return 0 if all(r["pass"] for r in rows) else 1
 
 
