@@ -118,7 +118,7 @@ figures: deps build/mbsph
 paper: figures
 	@for m in dynamic repulsive noncohesive noncohesive_spring hertz; do build/mbsph input/paper/tc4_stack_$$m.nml > /dev/null || exit 1; done
 
-# hard contact cases, long runs (about 30 minutes); verdicts into doc/stability.md
+# hard contact cases, long runs (about 2 minutes); verdicts into doc/stability.md
 stability: deps build/mbsph
 	@for c in input/stability/*.nml; do echo "== $$c"; build/mbsph $$c > /dev/null || exit 1; done
 	$(PYTHON) -m post.stability OUT/stability/* --table doc/stability.md

@@ -198,6 +198,14 @@ contains
             call apply_eq_pairs()
          end if
       end if
+      ! no point of a floating body moves more than cfl h in a step, as the
+      ! fluid's CFL keeps its particles: without water nothing else limits the
+      ! step, and two bodies could jump from out of reach into deep overlap
+      do k = 1, size(bodies)
+         if (bodies(k)%motion /= motion_floating) cycle
+         ct%dt_limit = min(ct%dt_limit, prm%cfl*prm%h/max(norm2(bodies(k)%v) + abs(bodies(k)%omega)* &
+                                                           bodies(k)%rbound, tiny(1.0_rp)))
+      end do
    contains
       !> A velocity-proportional force -c (e . v_rel) e between particles i
       !> and j, along the unit vector e (the normal or the slip direction):
