@@ -32,7 +32,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test unit unit-debug pytest run dambreak breakwater lint bench bench-mpi clean figures paper stability study
+.PHONY: all debug deps test unit unit-debug pytest run dambreak breakwater lint bench bench-mpi bench-effects clean figures paper stability study
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -134,6 +134,12 @@ study: deps build/mbsph
 
 bench: deps build/mbsph
 	$(PYTHON) bench/run_bench.py
+
+# unused effects cost nothing: the benchmark fluid-only, with a body far from the water,
+# and with every optional model on (doc/performance.md#effects-that-are-off);
+# BENCH_REF=path/to/mbsph also runs the fluid-only case with another build
+bench-effects: deps build/mbsph
+	$(PYTHON) bench/run_effects.py $(if $(BENCH_REF),--reference $(BENCH_REF))
 
 # strong and weak scaling on 1 and 2 MPI ranks (doc/performance.md#several-ranks)
 bench-mpi: deps build/mbsph

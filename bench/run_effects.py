@@ -6,8 +6,11 @@ in three versions, and the pair-loop time per particle-step of each.
       far from the water (the water stays below y = 2.1 m in the steps run; the shelf is
       at y = 3.25 m): bodies, contact and friction are in the case but never meet the fluid;
   (c) every optional model on: (b), laminar viscosity + SPS turbulence, kernel gradient
-      correction, Fourtakas density diffusion (already on in (a)), and an oscillating
-      solid block (a moving boundary) beside the shelf.
+      correction, Fourtakas density diffusion (already on in (a)), an oscillating solid
+      block (a moving boundary) beside the shelf, a damping zone over the right quarter
+      of the tank and three gauges (two elevation, one pressure, sampled every 0.01 s).
+      The wavemaker is left out: its paddle would replace the wall behind the column,
+      i.e. change the flow.
 
 Each version runs --repeat times; the minimum is kept (the run least disturbed by other
 processes). --reference BINARY also runs (a) with another build, e.g. the foundation's,
@@ -45,7 +48,10 @@ def every_model(text: str, dp: float) -> str:
     assert "laminar_sps" in text, "the benchmark case file changed: update every_model()"
     return text + body_far(dp) + (
         f"&box role = 'solid', xmin = 0.3, xmax = 0.5, ymin = {3.25 - 3 * dp!r}, ymax = 3.25, "
-        "motion = 'oscillate', amplitude = 0.02, 0.0, period = 1.0 /\n")
+        "motion = 'oscillate', amplitude = 0.02, 0.0, period = 1.0 /\n"
+        "&damping x0 = 3.0, x1 = 4.0, strength = 10.0 /\n"
+        "&gauge kind = 'elevation', x = 0.5 /\n&gauge kind = 'elevation', x = 2.0 /\n"
+        "&gauge kind = 'pressure', x = 0.5, y = 0.1 /\n")
 
 
 def run(binary: Path, case: Path) -> dict[str, float]:
