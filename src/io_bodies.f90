@@ -3,6 +3,7 @@
 module io_bodies
    use kinds, only: rp
    use constants, only: msg_len
+   use io_files, only: csv_rows_until
    use body_dynamics, only: body_t
    use errors, only: fatal
    implicit none
@@ -23,29 +24,11 @@ contains
       logical, intent(in) :: restart
       real(rp), intent(in) :: t_keep
       character(len=:), allocatable :: path, keep
-      character(len=4096) :: line
       character(len=msg_len) :: msg
-      integer :: u, ios, k
-      real(rp) :: t
-      logical :: have
+      integer :: ios
       path = trim(out_dir)//'/bodies.csv'
       keep = ''
-      inquire (file=path, exist=have)
-      if (restart .and. have) then
-         open (newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-         if (ios == 0) then
-            read (u, '(a)', iostat=ios, iomsg=msg) line
-            rows: do while (ios == 0)
-               read (u, '(a)', iostat=ios, iomsg=msg) line
-               if (ios /= 0) exit rows
-               k = index(line, ',')
-               read (line(1:k - 1), *, iostat=ios, iomsg=msg) t
-               if (ios == 0 .and. t <= t_keep*(1.0_rp + 1.0e-12_rp)) keep = keep//trim(line)//new_line('a')
-               ios = 0
-            end do rows
-            close (u)
-         end if
-      end if
+      if (restart) keep = csv_rows_until(path, t_keep)
       open (newunit=unit_, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
       opened = .true.

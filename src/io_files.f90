@@ -7,7 +7,7 @@ module io_files
    use input_check, only: int_str
    implicit none
    private
-   public :: outdir_prepare, file_exists, file_text, snap_name, energy_open, energy_row, energy_close
+   public :: outdir_prepare, file_exists, file_text, snap_name, energy_open, energy_row, energy_close, csv_rows_until
 
    integer :: energy_unit = 0
    logical :: energy_opened = .false.   !< newunit= numbers are negative: keep a flag
@@ -157,4 +157,29 @@ contains
       if (energy_opened) close (energy_unit)
       energy_opened = .false.
    end subroutine energy_close
+   !> The data rows of a CSV time series whose first field, a time, is at most
+   !> t_keep: what a restart at t_keep keeps of the file. Comment lines ('#'),
+   !> the header and unreadable rows are left out; '' when there is no file.
+   function csv_rows_until(path, t_keep) result(keep)
+      character(len=*), intent(in) :: path
+      real(rp), intent(in) :: t_keep
+      character(len=:), allocatable :: keep
+      character(len=4096) :: line
+      character(len=msg_len) :: msg
+      integer :: u, ios, k
+      real(rp) :: t
+      keep = ''
+      open (newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+      if (ios /= 0) return
+      rows: do
+         read (u, '(a)', iostat=ios, iomsg=msg) line
+         if (ios /= 0) exit rows
+         if (line(1:1) == '#') cycle rows
+         k = index(line, ',')
+         if (k < 2) cycle rows
+         read (line(1:k - 1), *, iostat=ios, iomsg=msg) t
+         if (ios == 0 .and. t <= t_keep*(1.0_rp + 1.0e-12_rp)) keep = keep//trim(line)//new_line('a')
+      end do rows
+      close (u)
+   end function csv_rows_until
 end module io_files

@@ -8,6 +8,7 @@ module probe_gauges
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use kinds, only: rp
    use constants, only: kind_fluid, msg_len
+   use io_files, only: csv_rows_until
    use input_wave, only: gauge_cfg
    use params, only: params_t
    use grid, only: grid_t, grid_column, grid_cell
@@ -33,30 +34,12 @@ contains
       logical, intent(in) :: restart
       real(rp), intent(in) :: t_keep
       character(len=:), allocatable :: path, keep, head
-      character(len=4096) :: line
       character(len=msg_len) :: msg
-      integer :: u, ios, k
-      real(rp) :: t
-      logical :: have
+      integer :: ios, k
       character(len=64) :: b
       path = trim(out_dir)//'/gauges.csv'
       keep = ''
-      inquire (file=path, exist=have)
-      if (restart .and. have) then
-         open (newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-         if (ios == 0) then
-            rows: do
-               read (u, '(a)', iostat=ios, iomsg=msg) line
-               if (ios /= 0) exit rows
-               if (line(1:1) == '#' .or. line(1:4) == 'time') cycle rows
-               k = index(line, ',')
-               if (k < 2) cycle rows
-               read (line(1:k - 1), *, iostat=ios, iomsg=msg) t
-               if (ios == 0 .and. t <= t_keep*(1.0_rp + 1.0e-12_rp)) keep = keep//trim(line)//new_line('a')
-            end do rows
-            close (u)
-         end if
-      end if
+      if (restart) keep = csv_rows_until(path, t_keep)
       open (newunit=unit_, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
       opened = .true.
