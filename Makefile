@@ -90,7 +90,7 @@ dambreak: deps build/mbsph
 
 # the coarse breakwater with regular and irregular armour placement: a settling run
 # in still water (1 s), continued under waves by a restart; armour figures and the
-# table against the laboratory ranges (doc/breakwater.md). About 15 minutes on 2 cores.
+# table against the laboratory ranges (doc/breakwater.md); cost measured there.
 BW_END ?= 12.0
 breakwater: deps build/mbsph
 	@for pl in regular irregular; do \
