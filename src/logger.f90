@@ -1,7 +1,7 @@
 !> Screen and run.log output. Only rank 0 writes. The progress line is
 !> redrawn in place on a terminal and written as plain lines elsewhere.
 module logger
-   use, intrinsic :: iso_c_binding, only: c_int
+   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_size_t, c_null_char
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use constants, only: msg_len
    use comm, only: comm_rank
@@ -21,6 +21,19 @@ module logger
          integer(c_int), value :: fd
          integer(c_int) :: r
       end function c_isatty
+      function c_getppid() bind(C, name='getppid') result(r)
+         import :: c_int
+         implicit none
+         integer(c_int) :: r
+      end function c_getppid
+      function c_readlink(path, buf, bufsiz) bind(C, name='readlink') result(r)
+         import :: c_char, c_size_t
+         implicit none
+         character(kind=c_char), intent(in) :: path(*)
+         character(kind=c_char), intent(out) :: buf(*)
+         integer(c_size_t), value :: bufsiz
+         integer(c_size_t) :: r   ! ssize_t: same width as size_t on the supported platforms
+      end function c_readlink
    end interface
 
 contains
@@ -32,7 +45,7 @@ contains
       integer :: ios
       character(len=msg_len) :: msg
       if (comm_rank() /= 0) return
-      tty = c_isatty(1_c_int) == 1
+      tty = stdout_is_terminal()
       if (append) then
          open (newunit=log_unit, file=path, status='unknown', position='append', action='write', iostat=ios, iomsg=msg)
       else
@@ -40,6 +53,41 @@ contains
       end if
       log_opened = ios == 0
    end subroutine log_open
+
+   !> Whether the user sees stdout on a terminal. MBSPH_PROGRESS = plain or inplace decides
+   !> when set. Open MPI hands every rank a pseudo-terminal even when mpirun's own output
+   !> goes to a file, so under it the answer is read from the launcher's stdout instead
+   !> (Linux /proc; where that cannot be read, the rank's own isatty stands).
+   logical function stdout_is_terminal() result(yes)
+      character(len=32) :: mode
+      character(len=256) :: path
+      character(kind=c_char) :: buf(256)
+      integer(c_size_t) :: n
+      integer :: st, i
+      character(len=256) :: target
+      call get_environment_variable('MBSPH_PROGRESS', mode, status=st)
+      if (st == 0) then
+         if (trim(mode) == 'plain') then
+            yes = .false.
+            return
+         else if (trim(mode) == 'inplace') then
+            yes = .true.
+            return
+         end if
+      end if
+      yes = c_isatty(1_c_int) == 1
+      if (.not. yes) return
+      call get_environment_variable('OMPI_COMM_WORLD_SIZE', status=st)
+      if (st /= 0) return
+      write (path, '(a,i0,a)') '/proc/', c_getppid(), '/fd/1'
+      n = c_readlink(trim(path)//c_null_char, buf, int(size(buf), c_size_t))
+      if (n <= 0 .or. n > size(buf)) return
+      target = ''
+      do i = 1, int(n)
+         target(i:i) = buf(i)
+      end do
+      yes = index(target, '/dev/pts/') == 1 .or. index(target, '/dev/tty') == 1
+   end function stdout_is_terminal
 
    logical function log_is_open()
       log_is_open = log_opened
