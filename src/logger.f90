@@ -12,6 +12,7 @@ module logger
    integer :: log_unit = 0
    logical :: log_opened = .false.   !< newunit= numbers are negative: keep a flag
    logical :: tty = .false.
+   integer, parameter :: proc_len = 256   !< room for a /proc path and a link target
    logical :: progress_pending = .false.   !< an in-place line is on the screen
 
    interface
@@ -27,10 +28,10 @@ module logger
          integer(c_int) :: r
       end function c_getppid
       function c_readlink(path, buf, bufsiz) bind(C, name='readlink') result(r)
-         import :: c_char, c_size_t
+         import :: c_char, c_size_t, proc_len
          implicit none
-         character(kind=c_char), intent(in) :: path(*)
-         character(kind=c_char), intent(out) :: buf(*)
+         character(kind=c_char), intent(in) :: path(proc_len)
+         character(kind=c_char), intent(out) :: buf(proc_len)
          integer(c_size_t), value :: bufsiz
          integer(c_size_t) :: r   ! ssize_t: same width as size_t on the supported platforms
       end function c_readlink
@@ -60,28 +61,30 @@ contains
    !> (Linux /proc; where that cannot be read, the rank's own isatty stands).
    logical function stdout_is_terminal() result(yes)
       character(len=32) :: mode
-      character(len=256) :: path
-      character(kind=c_char) :: buf(256)
+      character(len=proc_len) :: path, target
+      character(kind=c_char) :: cpath(proc_len), buf(proc_len)
       integer(c_size_t) :: n
       integer :: st, i
-      character(len=256) :: target
       call get_environment_variable('MBSPH_PROGRESS', mode, status=st)
-      if (st == 0) then
-         if (trim(mode) == 'plain') then
-            yes = .false.
-            return
-         else if (trim(mode) == 'inplace') then
-            yes = .true.
-            return
-         end if
+      if (st == 0 .and. trim(mode) == 'plain') then
+         yes = .false.
+         return
+      end if
+      if (st == 0 .and. trim(mode) == 'inplace') then
+         yes = .true.
+         return
       end if
       yes = c_isatty(1_c_int) == 1
       if (.not. yes) return
       call get_environment_variable('OMPI_COMM_WORLD_SIZE', status=st)
       if (st /= 0) return
       write (path, '(a,i0,a)') '/proc/', c_getppid(), '/fd/1'
-      n = c_readlink(trim(path)//c_null_char, buf, int(size(buf), c_size_t))
-      if (n <= 0 .or. n > size(buf)) return
+      cpath = c_null_char
+      do i = 1, len_trim(path)
+         cpath(i) = path(i:i)
+      end do
+      n = c_readlink(cpath, buf, int(proc_len - 1, c_size_t))
+      if (n <= 0) return
       target = ''
       do i = 1, int(n)
          target(i:i) = buf(i)
