@@ -1,13 +1,15 @@
-!> MPI of MBSPH, part one: start and stop, ranks, the abort path, and the
-!> collective reductions the solver needs. Every MPI call of MBSPH lives in
-!> this module or in comm_halo (the particle exchange); no other module
-!> calls MPI. On one rank every routine returns at once, before any MPI
-!> call, so a serial run pays nothing (and the unit tests need no MPI_Init).
+!> All MPI of MBSPH: start and stop, ranks, the abort path, the collective
+!> reductions the solver needs, and the thin typed exchanges that comm_halo
+!> builds the particle exchange from. This is the only module that uses
+!> mpi_f08; every other module (comm_halo included) calls the routines here.
+!> On one rank every routine returns at once, before any MPI call, so a
+!> serial run pays nothing (and the unit tests need no MPI_Init).
 module comm
    use mpi_f08, only: MPI_Init, MPI_Finalize, MPI_Abort, MPI_Comm_rank, MPI_Comm_size, &
                       MPI_COMM_WORLD, MPI_Wtime, MPI_Initialized, MPI_Finalized, MPI_Allreduce, &
                       MPI_Allgather, MPI_Allgatherv, MPI_Exscan, MPI_Barrier, MPI_IN_PLACE, MPI_SUM, &
-                      MPI_MAX, MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_INFO_NULL
+                      MPI_MAX, MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_INFO_NULL, MPI_Sendrecv, MPI_Alltoall, &
+                      MPI_Alltoallv, MPI_PROC_NULL, MPI_STATUS_IGNORE
    use, intrinsic :: iso_c_binding, only: c_int
    use kinds, only: rp
    use timers, only: timer_start, timer_stop, t_comm
@@ -15,7 +17,11 @@ module comm
    private
    public :: comm_init, comm_finalize, comm_abort, comm_rank, comm_size, comm_wtime, &
              comm_handle, comm_info_handle, comm_barrier, comm_sum, comm_max, comm_exscan, comm_allgather, comm_allgatherv, &
-             comm_grace
+             comm_grace, comm_sendrecv, comm_alltoall, comm_alltoallv, comm_no_rank
+
+   !> Neighbour rank meaning "none" (the edge of the domain): an exchange
+   !> with it sends and receives nothing (MPI_PROC_NULL inside this module).
+   integer, parameter :: comm_no_rank = -1
 
    interface
       subroutine c_exit(status) bind(C, name='exit')
@@ -35,6 +41,14 @@ module comm
    interface comm_sum
       module procedure sum_r, sum_i
    end interface comm_sum
+
+   !> One exchange with two ranks: send to one, receive from another (the
+   !> caller times it; comm_halo wraps whole exchanges in t_comm).
+   interface comm_sendrecv
+      module procedure sendrecv_r, sendrecv_i
+   end interface comm_sendrecv
+
+   integer, parameter :: tag = 7
 
    integer :: my_rank = 0
    integer :: n_ranks = 1
@@ -184,4 +198,58 @@ contains
                           MPI_COMM_WORLD)
       call timer_stop(t_comm)
    end subroutine comm_allgatherv
+
+   !> comm_no_rank as MPI_PROC_NULL, any other rank unchanged.
+   integer function mpi_peer(r)
+      integer, intent(in) :: r
+      mpi_peer = r
+      if (r == comm_no_rank) mpi_peer = MPI_PROC_NULL
+   end function mpi_peer
+
+   !> Send sbuf(1:ns) to rank dest and receive rbuf(1:nr) from rank src at
+   !> once (either may be comm_no_rank). On one rank both are comm_no_rank.
+   subroutine sendrecv_r(sbuf, ns, dest, rbuf, nr, src)
+      real(rp), intent(in) :: sbuf(:)
+      integer, intent(in) :: ns, dest, nr, src
+      real(rp), intent(inout) :: rbuf(:)
+      if (n_ranks == 1) return
+      call MPI_Sendrecv(sbuf, ns, MPI_DOUBLE_PRECISION, mpi_peer(dest), tag, rbuf, nr, MPI_DOUBLE_PRECISION, &
+                        mpi_peer(src), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+   end subroutine sendrecv_r
+
+   subroutine sendrecv_i(sbuf, ns, dest, rbuf, nr, src)
+      integer, intent(in) :: sbuf(:)
+      integer, intent(in) :: ns, dest, nr, src
+      integer, intent(inout) :: rbuf(:)
+      if (n_ranks == 1) return
+      call MPI_Sendrecv(sbuf, ns, MPI_INTEGER, mpi_peer(dest), tag, rbuf, nr, MPI_INTEGER, mpi_peer(src), tag, &
+                        MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+   end subroutine sendrecv_i
+
+   !> One integer to and from every rank: scount(r+1) goes to rank r, and
+   !> rcount(r+1) is what rank r sent here (the caller times it).
+   subroutine comm_alltoall(scount, rcount)
+      integer, intent(in) :: scount(:)
+      integer, intent(out) :: rcount(:)
+      if (n_ranks == 1) then
+         rcount(1) = scount(1)
+         return
+      end if
+      call MPI_Alltoall(scount, 1, MPI_INTEGER, rcount, 1, MPI_INTEGER, MPI_COMM_WORLD)
+   end subroutine comm_alltoall
+
+   !> Blocks of reals to and from every rank: sbuf(sdispl(r+1)+1 ..) with
+   !> scount(r+1) values goes to rank r, and rank r's block lands at
+   !> rbuf(rdispl(r+1)+1 ..) with rcount(r+1) values (the caller times it).
+   subroutine comm_alltoallv(sbuf, scount, sdispl, rbuf, rcount, rdispl)
+      real(rp), intent(in) :: sbuf(:)
+      integer, intent(in) :: scount(:), sdispl(:), rcount(:), rdispl(:)
+      real(rp), intent(inout) :: rbuf(:)
+      if (n_ranks == 1) then
+         rbuf(rdispl(1) + 1:rdispl(1) + rcount(1)) = sbuf(sdispl(1) + 1:sdispl(1) + scount(1))
+         return
+      end if
+      call MPI_Alltoallv(sbuf, scount, sdispl, MPI_DOUBLE_PRECISION, rbuf, rcount, rdispl, MPI_DOUBLE_PRECISION, &
+                         MPI_COMM_WORLD)
+   end subroutine comm_alltoallv
 end module comm

@@ -1,4 +1,4 @@
-!> MPI of MBSPH, part two: particles between the slabs of neighbouring ranks.
+!> The particle exchange of MBSPH: particles between the slabs of neighbouring ranks.
 !>
 !> Every pair of particles is computed on one rank only: the pair loops'
 !> half stencil looks at the next column to the right, so a rank needs as
@@ -12,14 +12,13 @@
 !> Migration (every step, before the sort) sends the particles that crossed
 !> a slab edge to the neighbour that now owns them; redistribution (after
 !> the slab edges moved) sends every particle to its owner, wherever it is.
-!> On one rank every routine returns at once.
+!> On one rank every routine returns at once. The messages themselves go
+!> through the typed wrappers of comm (the only module that uses MPI).
 module comm_halo
-   use mpi_f08, only: MPI_Sendrecv, MPI_Alltoall, MPI_Alltoallv, MPI_COMM_WORLD, MPI_PROC_NULL, &
-                      MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_STATUS_IGNORE
    use kinds, only: rp
    use particles, only: particles_t, particles_grow
    use decomp, only: decomp_owner
-   use comm, only: comm_rank, comm_size
+   use comm, only: comm_rank, comm_size, comm_sendrecv, comm_alltoall, comm_alltoallv, comm_no_rank
    use timers, only: timer_start, timer_stop, t_comm
    use errors, only: fatal
    implicit none
@@ -36,7 +35,6 @@ module comm_halo
 
    integer, parameter :: nfull = 20      !< values per particle when it moves to another rank
    integer, parameter :: nhalo = 16      !< values per particle of the halo
-   integer, parameter :: tag = 7
 
    integer :: n_send = 0                 !< owned particles 1 .. n_send are the left neighbour's halo
    integer :: n_recv = 0                 !< halo particles n_own+1 .. n_own+n_recv
@@ -45,12 +43,12 @@ module comm_halo
 contains
 
    integer function left()
-      left = MPI_PROC_NULL
+      left = comm_no_rank
       if (comm_rank() > 0) left = comm_rank() - 1
    end function left
 
    integer function right()
-      right = MPI_PROC_NULL
+      right = comm_no_rank
       if (comm_rank() < comm_size() - 1) right = comm_rank() + 1
    end function right
 
@@ -110,7 +108,7 @@ contains
    subroutine comm_halo_migrate(p, drop)
       type(particles_t), intent(inout) :: p
       logical, allocatable, intent(inout) :: drop(:)
-      integer :: i, d, me, nl, nr, rl, rr, k
+      integer :: i, d, me, nl, nr, rl, rr, k, cnt(1)
       logical, allocatable :: grown(:)
       if (comm_size() == 1) return
       call timer_start(t_comm)
@@ -141,19 +139,17 @@ contains
       call ensure(sbuf, 1)
       call ensure(sbuf2, 1)
       ! to the left, from the right
-      rr = 0
-      call MPI_Sendrecv(nl, 1, MPI_INTEGER, left(), tag, rr, 1, MPI_INTEGER, right(), tag, MPI_COMM_WORLD, &
-                        MPI_STATUS_IGNORE)
+      cnt = 0
+      call comm_sendrecv([nl], 1, left(), cnt, 1, right())
+      rr = cnt(1)
       ! to the right, from the left
-      rl = 0
-      call MPI_Sendrecv(nr, 1, MPI_INTEGER, right(), tag, rl, 1, MPI_INTEGER, left(), tag, MPI_COMM_WORLD, &
-                        MPI_STATUS_IGNORE)
+      cnt = 0
+      call comm_sendrecv([nr], 1, right(), cnt, 1, left())
+      rl = cnt(1)
       call ensure(rbuf, max(rr, 1)*nfull)
       call ensure(rbuf2, max(rl, 1)*nfull)
-      call MPI_Sendrecv(sbuf, nl*nfull, MPI_DOUBLE_PRECISION, left(), tag, rbuf, rr*nfull, MPI_DOUBLE_PRECISION, &
-                        right(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
-      call MPI_Sendrecv(sbuf2, nr*nfull, MPI_DOUBLE_PRECISION, right(), tag, rbuf2, rl*nfull, &
-                        MPI_DOUBLE_PRECISION, left(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      call comm_sendrecv(sbuf, nl*nfull, left(), rbuf, rr*nfull, right())
+      call comm_sendrecv(sbuf2, nr*nfull, right(), rbuf2, rl*nfull, left())
       call particles_grow(p, rl + rr)
       if (size(drop) < size(p%rho)) then
          allocate (grown(size(p%rho)))
@@ -180,23 +176,22 @@ contains
    subroutine comm_halo_build(p, nfirst)
       type(particles_t), intent(inout) :: p
       integer, intent(in) :: nfirst
-      integer :: i, k, m
+      integer :: i, k, m, cnt(1)
       if (comm_size() == 1) return
       call timer_start(t_comm)
       n_send = 0
-      if (left() /= MPI_PROC_NULL) n_send = nfirst
+      if (left() /= comm_no_rank) n_send = nfirst
       call ensure(sbuf, max(n_send, 1)*nhalo)
       do i = 1, n_send
          k = (i - 1)*nhalo
          sbuf(k + 1:k + nhalo) = [p%x(:, i), p%v(:, i), p%rho(i), p%mass(i), p%nrm(:, i), p%xb(:, i), p%nb(:, i), &
                                   real(p%kind(i), rp), real(p%body(i), rp), real(p%id(i), rp), real(p%surf(i), rp)]
       end do
-      n_recv = 0
-      call MPI_Sendrecv(n_send, 1, MPI_INTEGER, left(), tag, n_recv, 1, MPI_INTEGER, right(), tag, &
-                        MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      cnt = 0
+      call comm_sendrecv([n_send], 1, left(), cnt, 1, right())
+      n_recv = cnt(1)
       call ensure(rbuf, max(n_recv, 1)*nhalo)
-      call MPI_Sendrecv(sbuf, n_send*nhalo, MPI_DOUBLE_PRECISION, left(), tag, rbuf, n_recv*nhalo, &
-                        MPI_DOUBLE_PRECISION, right(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      call comm_sendrecv(sbuf, n_send*nhalo, left(), rbuf, n_recv*nhalo, right())
       p%n = p%n_own
       call particles_grow(p, n_recv)
       do m = 1, n_recv
@@ -225,8 +220,7 @@ contains
          k = (i - 1)*5
          sbuf(k + 1:k + 5) = [p%x(:, i), p%v(:, i), p%rho(i)]
       end do
-      call MPI_Sendrecv(sbuf, n_send*5, MPI_DOUBLE_PRECISION, left(), tag, rbuf, n_recv*5, MPI_DOUBLE_PRECISION, &
-                        right(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      call comm_sendrecv(sbuf, n_send*5, left(), rbuf, n_recv*5, right())
       do i = 1, n_recv
          k = (i - 1)*5
          p%x(:, p%n_own + i) = rbuf(k + 1:k + 2)
@@ -247,8 +241,7 @@ contains
       call ensure(sbuf, max(n_send, 1)*m)
       call ensure(rbuf, max(n_recv, 1)*m)
       sbuf(1:n_send*m) = reshape(a(:, 1:n_send), [n_send*m])
-      call MPI_Sendrecv(sbuf, n_send*m, MPI_DOUBLE_PRECISION, left(), tag, rbuf, n_recv*m, MPI_DOUBLE_PRECISION, &
-                        right(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      call comm_sendrecv(sbuf, n_send*m, left(), rbuf, n_recv*m, right())
       a(:, n_own + 1:n_own + n_recv) = reshape(rbuf(1:n_recv*m), [m, n_recv])
       call timer_stop(t_comm)
    end subroutine forward_2
@@ -259,8 +252,7 @@ contains
       if (comm_size() == 1) return
       call timer_start(t_comm)
       call ensure(rbuf, max(n_recv, 1))
-      call MPI_Sendrecv(a, n_send, MPI_DOUBLE_PRECISION, left(), tag, rbuf, n_recv, MPI_DOUBLE_PRECISION, &
-                        right(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      call comm_sendrecv(a, n_send, left(), rbuf, n_recv, right())
       a(n_own + 1:n_own + n_recv) = rbuf(1:n_recv)
       call timer_stop(t_comm)
    end subroutine forward_1
@@ -276,8 +268,7 @@ contains
       call ensure(sbuf, max(n_recv, 1)*m)
       call ensure(rbuf, max(n_send, 1)*m)
       sbuf(1:n_recv*m) = reshape(a(:, n_own + 1:n_own + n_recv), [n_recv*m])
-      call MPI_Sendrecv(sbuf, n_recv*m, MPI_DOUBLE_PRECISION, right(), tag, rbuf, n_send*m, MPI_DOUBLE_PRECISION, &
-                        left(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      call comm_sendrecv(sbuf, n_recv*m, right(), rbuf, n_send*m, left())
       a(:, 1:n_send) = a(:, 1:n_send) + reshape(rbuf(1:n_send*m), [m, n_send])
       call timer_stop(t_comm)
    end subroutine reverse_2
@@ -290,8 +281,7 @@ contains
       call ensure(sbuf, max(n_recv, 1))
       call ensure(rbuf, max(n_send, 1))
       sbuf(1:n_recv) = a(n_own + 1:n_own + n_recv)
-      call MPI_Sendrecv(sbuf, n_recv, MPI_DOUBLE_PRECISION, right(), tag, rbuf, n_send, MPI_DOUBLE_PRECISION, &
-                        left(), tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE)
+      call comm_sendrecv(sbuf, n_recv, right(), rbuf, n_send, left())
       a(1:n_send) = a(1:n_send) + rbuf(1:n_send)
       call timer_stop(t_comm)
    end subroutine reverse_1
@@ -316,7 +306,7 @@ contains
          dest(i) = decomp_owner(p%x(1, i))
          if (dest(i) /= me) scount(dest(i)) = scount(dest(i)) + 1
       end do
-      call MPI_Alltoall(scount, 1, MPI_INTEGER, rcount, 1, MPI_INTEGER, MPI_COMM_WORLD)
+      call comm_alltoall(scount, rcount)
       sdispl(0) = 0
       rdispl(0) = 0
       do d = 1, nr - 1
@@ -337,8 +327,7 @@ contains
             fill(d) = fill(d) + 1
          end if
       end do
-      call MPI_Alltoallv(sbuf, scount*nfull, sdispl*nfull, MPI_DOUBLE_PRECISION, rbuf, rcount*nfull, &
-                         rdispl*nfull, MPI_DOUBLE_PRECISION, MPI_COMM_WORLD)
+      call comm_alltoallv(sbuf, scount*nfull, sdispl*nfull, rbuf, rcount*nfull, rdispl*nfull)
       p%n = nkeep
       m = sum(rcount)
       call particles_grow(p, m)
