@@ -1,0 +1,70 @@
+"""Settling of an armour layer in still water, as numbers: for each run folder the largest
+move of any unit between two times (default 0.5 s and the end of the settling, 1 s), the
+largest move from the start, and the layer's porosity (reported by the generator, and
+recomputed from the poses in armour.csv by the independent check of tests/test_waves.py).
+
+    python tools/armour_settling.py OUT/breakwater_regular OUT/breakwater_irregular
+    python tools/armour_settling.py --test-case    # the case of test_armour_settles (2 s), both placements
+
+``--test-case`` runs build/mbsph (nice 10) on the still-water case of
+``tests/test_waves.py::test_armour_settles`` in a temporary folder and reports it the same way
+over 0.5 s to 2 s: the numbers behind that test's bars (0.1 dn, porosity within 0.02).
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests"))
+from test_waves import SETTLE, layer_porosity  # noqa: E402
+
+
+def report(out: Path, t0: float, t1: float, label: str | None = None) -> None:
+    measured, reported, target = layer_porosity(out / "armour.csv")
+    head = (out / "armour.csv").read_text().splitlines()[0].lstrip("# ")
+    dn = float(dict(kv.split("=") for kv in head.split(","))["dn"])
+    b = np.genfromtxt(out / "bodies.csv", delimiter=",", names=True)
+    u = np.genfromtxt(out / "armour.csv", delimiter=",", names=True, skip_header=1)
+    late, early = [], []
+    for body in u["body"]:
+        m = (b["body"] == body) & (b["time"] <= t1 + 0.01)
+        t, x, y = b["time"][m], b["x"][m], b["y"][m]
+        i = int(np.argmin(abs(t - t0)))
+        late.append(np.hypot(x[i:] - x[i], y[i:] - y[i]).max())
+        early.append(np.hypot(x - x[0], y - y[0]).max())
+    print(f"{label or out}: {len(u)} units of dn = {dn:g} m; porosity target {target:g}, reported {reported:.4f}, "
+          f"recomputed {measured:.4f}; largest move {t0:g} s to {t1:g} s: {max(late) / dn:.4f} dn; "
+          f"largest move from the start: {max(early) / dn:.3f} dn")
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("runs", type=Path, nargs="*", help="run folders holding armour.csv and bodies.csv")
+    ap.add_argument("--from", dest="t0", type=float, default=0.5, help="start of the late window (s)")
+    ap.add_argument("--to", dest="t1", type=float, default=None, help="end of the settling (s): 1, or 2 with --test-case")
+    ap.add_argument("--test-case", action="store_true", help="run and report the case of test_armour_settles")
+    a = ap.parse_args(argv)
+    for run in a.runs:
+        report(run, a.t0, 1.0 if a.t1 is None else a.t1)
+    if a.test_case:
+        for placement in ("regular", "irregular"):
+            with tempfile.TemporaryDirectory() as tmp:
+                (Path(tmp) / "case.nml").write_text(SETTLE.format(placement=placement))
+                p = subprocess.run(["nice", "-n", "10", str(ROOT / "build" / "mbsph"), "case.nml"], cwd=tmp,
+                                   capture_output=True, text=True)
+                if p.returncode != 0:
+                    print(p.stdout[-2000:], p.stderr[-2000:])
+                    return 1
+                report(Path(tmp) / "OUT", a.t0, 2.0 if a.t1 is None else a.t1, f"test_armour_settles, {placement}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
