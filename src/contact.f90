@@ -33,6 +33,7 @@ module contact
       real(rp) :: k_imp = 0.0_rp      !< K of the approach term K u_L^2 / h (Eq. 2-6 models)
       real(rp) :: max_penetration = 0.0_rp  !< largest overlap of two surfaces in the last evaluation [m]
       real(rp) :: dt_limit = huge(1.0_rp)   !< stable step for the stiffest contact of the last evaluation [s]
+      real(rp) :: dt_motion = huge(1.0_rp)  !< step in which no point of a floating body moves more than cfl h [s]
       ! Hertz: restitution e(alpha) of the damped Hertz spring on a grid of the
       ! damping number alpha (tsuji_table), inverted by interpolation
       real(rp), allocatable :: tab_alpha(:), tab_e(:)
@@ -166,6 +167,7 @@ contains
       call bodies_damping_reset(size(bodies))
       ct%max_penetration = 0.0_rp
       ct%dt_limit = huge(1.0_rp)
+      ct%dt_motion = huge(1.0_rp)
       ct%np = 0
       ct%nk = 0
       call find_candidates(ct, prm, p, bodies)
@@ -203,8 +205,8 @@ contains
       ! step, and two bodies could jump from out of reach into deep overlap
       do k = 1, size(bodies)
          if (bodies(k)%motion /= motion_floating) cycle
-         ct%dt_limit = min(ct%dt_limit, prm%cfl*prm%h/max(norm2(bodies(k)%v) + abs(bodies(k)%omega)* &
-                                                           bodies(k)%rbound, tiny(1.0_rp)))
+         ct%dt_motion = min(ct%dt_motion, prm%cfl*prm%h/max(norm2(bodies(k)%v) + abs(bodies(k)%omega)* &
+                                                             bodies(k)%rbound, tiny(1.0_rp)))
       end do
    contains
       !> A velocity-proportional force -c (e . v_rel) e between particles i

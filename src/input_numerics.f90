@@ -13,6 +13,7 @@ module input_numerics
       real(rp) :: h_over_dp = 1.4142135623730951_rp      !< smoothing length / dp [-]
       character(len=name_len) :: kernel = 'wendland'     !< 'wendland' | 'cubic'
       real(rp) :: cfl = 0.2_rp                           !< Courant number [-]
+      real(rp) :: dt_fixed = 0.0_rp                      !< fixed time step [s]; 0: variable
       character(len=name_len) :: integrator = 'symplectic'  !< 'symplectic' | 'predictor_corrector' | 'verlet'
       integer :: verlet_every = 40                       !< Verlet: an Euler step every N steps
       character(len=name_len) :: viscosity = 'artificial'  !< 'artificial' | 'laminar_sps'
@@ -28,17 +29,17 @@ module input_numerics
       character(len=name_len) :: boundary = 'dynamic'    !< fluid on solids: 'dynamic' | 'repulsive'
    end type numerics_cfg
 
-   real(rp) :: dp, h_over_dp, cfl, alpha, nu, cs_sps, ci_sps, delta
+   real(rp) :: dp, h_over_dp, cfl, dt_fixed, alpha, nu, cs_sps, ci_sps, delta
    character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction, boundary
    integer :: verlet_every, shepard_every
-   namelist /numerics/ dp, h_over_dp, kernel, cfl, integrator, verlet_every, viscosity, alpha, &
+   namelist /numerics/ dp, h_over_dp, kernel, cfl, dt_fixed, integrator, verlet_every, viscosity, alpha, &
       nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every, boundary
 
 contains
 
    subroutine to_vars(c)
       type(numerics_cfg), intent(in) :: c
-      dp = c%dp; h_over_dp = c%h_over_dp; kernel = c%kernel; cfl = c%cfl
+      dp = c%dp; h_over_dp = c%h_over_dp; kernel = c%kernel; cfl = c%cfl; dt_fixed = c%dt_fixed
       integrator = c%integrator; verlet_every = c%verlet_every; viscosity = c%viscosity
       alpha = c%alpha; nu = c%nu; cs_sps = c%cs_sps; ci_sps = c%ci_sps
       diffusion = c%diffusion; delta = c%delta; kernel_correction = c%kernel_correction
@@ -47,7 +48,7 @@ contains
 
    subroutine from_vars(c)
       type(numerics_cfg), intent(out) :: c
-      c%dp = dp; c%h_over_dp = h_over_dp; c%kernel = kernel; c%cfl = cfl
+      c%dp = dp; c%h_over_dp = h_over_dp; c%kernel = kernel; c%cfl = cfl; c%dt_fixed = dt_fixed
       c%integrator = integrator; c%verlet_every = verlet_every; c%viscosity = viscosity
       c%alpha = alpha; c%nu = nu; c%cs_sps = cs_sps; c%ci_sps = ci_sps
       c%diffusion = diffusion; c%delta = delta; c%kernel_correction = kernel_correction
@@ -74,6 +75,7 @@ contains
       call check_real(file, 'numerics', 'h_over_dp', c%h_over_dp, 1.0_rp, 2.0_rp)
       call check_choice(file, 'numerics', 'kernel', c%kernel, [character(len=name_len) :: 'wendland', 'cubic'])
       call check_real(file, 'numerics', 'cfl', c%cfl, 0.0_rp, 0.5_rp, lo_open=.true.)
+      call check_real(file, 'numerics', 'dt_fixed', c%dt_fixed, 0.0_rp, 1.0e3_rp)
       call check_choice(file, 'numerics', 'integrator', c%integrator, &
                         [character(len=name_len) :: 'symplectic', 'predictor_corrector', 'verlet'])
       call check_int(file, 'numerics', 'verlet_every', c%verlet_every, 1, 1000)

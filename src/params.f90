@@ -26,6 +26,7 @@ module params
       real(rp) :: h_swl, y_surface         !< still-water depth and surface level [m]
       real(rp) :: rho_min, rho_max         !< removal limits [kg/m3]
       real(rp) :: cfl
+      real(rp) :: dt_fixed                 !< fixed time step [s]; 0: the variable step
       integer :: visc = visc_artificial
       real(rp) :: alpha, nu, sps_smag, sps_blin
       integer :: diffusion = diff_none
@@ -80,6 +81,7 @@ contains
       prm%rho_min = c%fluid%rho_min*prm%rho0
       prm%rho_max = c%fluid%rho_max*prm%rho0
       prm%cfl = c%numerics%cfl
+      prm%dt_fixed = c%numerics%dt_fixed
       select case (trim(c%numerics%viscosity))
       case ('laminar_sps'); prm%visc = visc_laminar_sps
       case default; prm%visc = visc_artificial

@@ -25,7 +25,7 @@ module solver
    use eos, only: eos_update
    use fluid_forces, only: forces_work_t, forces_init
    use kernel_correction, only: shepard_filter
-   use step, only: step_advance
+   use step, only: step_advance, step_dt_ratio
    use bc_motion, only: motion_apply
    use run_state, only: state_t
    use io_hdf5, only: h5_start, h5_stop
@@ -65,7 +65,7 @@ contains
 
    subroutine solver_run(c)
       type(case_cfg), intent(in) :: c
-      real(rp) :: dt_floor, wall_last
+      real(rp) :: dt_floor, wall_last, dt_limit
       logical :: done, written
       call setup(c)
 
@@ -81,7 +81,8 @@ contains
       written = .true.
       do while (.not. done)
          call neighbours()
-         call step_advance(prm, g, p, w, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt)
+         call step_advance(prm, g, p, w, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt, dt_limit)
+         if (st%dt > dt_limit) call refuse_fixed_step(dt_limit)
          if (cfg%damping%on) call damping_apply(cfg%damping, p, st%dt)
          st%t = st%t + st%dt
          st%istep = st%istep + 1
@@ -412,6 +413,19 @@ contains
       end if
    end subroutine check_state
 
+   !> A fixed step above the stable step of the state would make the run
+   !> blow up: stop before taking it, with the state (still sound) as the
+   !> last snapshot.
+   subroutine refuse_fixed_step(dt_limit)
+      real(rp), intent(in) :: dt_limit
+      call snapshot_write(out, st%isnap, p, prm, st%t, prm%dt_fixed, st%istep, case_text, bodies)
+      call fatal('&numerics dt_fixed = '//real_str(prm%dt_fixed)//' s is above the stable step '// &
+                 real_str(dt_limit)//' s of the state at step '//int_str(st%istep)//', t = '//real_str(st%t)// &
+                 ' s (force, acoustic-viscous and contact limits at cfl = '//real_str(prm%cfl)//'): the run would go'// &
+                 ' unstable; stopped before the step. Lower dt_fixed or set it to 0 (variable step);'// &
+                 ' last state written to '//snap_name(out, st%isnap))
+   end subroutine refuse_fixed_step
+
    subroutine write_outputs(snap, energy)
       logical, intent(in) :: snap, energy
       real(rp) :: ekin, epot, mass, bkin, bpot, e(4), pen(1)
@@ -522,13 +536,22 @@ contains
    end subroutine progress
 
    subroutine summary()
-      real(rp) :: wall, tt
-      integer :: k, counts(comm_size())
-      character(len=128) :: line
+      real(rp) :: wall, tt, ratio(2)
+      integer :: k, counts(comm_size()), at_step(2)
+      character(len=160) :: line
       wall = comm_wtime() - st%wall0
       call comm_allgather(p%n_own, counts)
       call log_line('done: t = '//real_str(st%t)//' s after '//int_str(st%istep)//' steps; fluid particles lost: '// &
                     int_str(st%lost_domain + st%lost_density))
+      call step_dt_ratio(ratio, at_step)
+      write (line, '("time step: largest dt / CFL limit of a state it reached ",f0.4," (step ",i0, &
+            &"), Courant number ",f0.4," (cfl ",f0.3,")")') ratio(1), at_step(1), ratio(1)*prm%cfl, prm%cfl
+      call log_line(trim(line))
+      if (size(bodies) > 0) then
+         write (line, '("time step: largest dt / every limit, contacts too, of a state it reached ",f0.4, &
+               &" (step ",i0,")")') ratio(2), at_step(2)
+         call log_line(trim(line))
+      end if
       if (comm_size() > 1) then
          write (line, '("ranks: ",i0,", particles per rank ",i0," to ",i0," (largest ",f0.1, &
                &" % above the mean)")') comm_size(), minval(counts), maxval(counts), &

@@ -1,10 +1,14 @@
 !> Time integration: symplectic, predictor-corrector and Verlet (with an
 !> Euler step every verlet_every steps), with the variable time step of
-!> Monaghan and Kos (1999): force, acoustic-viscous and laminar limits.
+!> Monaghan and Kos (1999): force, acoustic-viscous and laminar limits, or a
+!> fixed step (&numerics dt_fixed) that is refused where it exceeds them.
+!> Every force evaluation also compares the step in use with the limit of the
+!> state it reached (the middle and the end of a step): the largest ratio is
+!> the run's check that the chosen step stayed within its stability limit.
 module step
    use kinds, only: rp
    use constants, only: kind_fluid, kind_moving
-   use params, only: params_t, integ_symplectic, integ_predictor_corrector, integ_verlet, visc_laminar_sps
+   use params, only: params_t, integ_predictor_corrector, integ_verlet, visc_laminar_sps
    use grid, only: grid_t
    use particles, only: particles_t
    use fluid_forces, only: forces_work_t, forces_compute
@@ -19,15 +23,22 @@ module step
    use comm_halo, only: comm_halo_reverse, comm_halo_refresh
    implicit none
    private
-   public :: step_advance
+   public :: step_advance, step_dt_ratio
 
    real(rp), allocatable :: x0(:, :), v0(:, :), rho0(:)   ! state at the start of a step
+   real(rp) :: dt_prev = 0.0_rp     ! the last step taken [s]
+   ! largest dt / limit of a state the step reached, and the step where:
+   ! (1) the CFL limits (fluid, body motion), (2) every limit (contacts too)
+   real(rp) :: ratio_max(2) = 0.0_rp
+   integer :: ratio_step(2) = 0
 
 contains
 
-   !> One step of the chosen integrator from time t. Returns the dt taken.
-   !> istep is the number of the step being taken (1 for the first).
-   subroutine step_advance(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt)
+   !> One step of the chosen integrator from time t. Returns the dt taken and
+   !> dt_limit, the stable step of the state at t. istep is the number of the
+   !> step being taken (1 for the first). A fixed step above dt_limit is not
+   !> taken: the particles and bodies are left as they were at t.
+   subroutine step_advance(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
@@ -38,16 +49,61 @@ contains
       type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
       integer, intent(in) :: istep
-      real(rp), intent(out) :: dt
+      real(rp), intent(out) :: dt, dt_limit
       select case (prm%integrator)
       case (integ_verlet)
-         call verlet(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt)
-      case (integ_predictor_corrector)
-         call two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, dt, .false.)
+         call verlet(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
       case default
-         call two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, dt, .true.)
+         call two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
       end select
+      if (dt <= dt_limit .or. prm%dt_fixed <= 0.0_rp) dt_prev = dt
    end subroutine step_advance
+
+   !> The largest ratio of a step to the stable step of a state it reached
+   !> since the run (or its restart) began, and the step where it was reached:
+   !> (1) against the CFL limits (fluid acoustic-viscous and force, bodies'
+   !> acceleration and motion), (2) against every limit, the contacts' too.
+   subroutine step_dt_ratio(rmax, at_step)
+      real(rp), intent(out) :: rmax(2)
+      integer, intent(out) :: at_step(2)
+      rmax = ratio_max
+      at_step = ratio_step
+   end subroutine step_dt_ratio
+
+   !> The step size of the first stage, the variable step or the fixed one,
+   !> and its check against the limit of the state at its start.
+   subroutine first_stage(prm, p, w, bodies, ct, istep, dt, dt_limit)
+      type(params_t), intent(in) :: prm
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(in) :: w
+      type(body_t), intent(in) :: bodies(:)
+      type(contact_t), intent(in) :: ct
+      integer, intent(in) :: istep
+      real(rp), intent(out) :: dt, dt_limit
+      real(rp) :: dt_cfl
+      dt_limit = stage_dt(prm, p, w, bodies, ct, dt_cfl)
+      ! the previous step against the limits of the state it ended in
+      call note_ratio(dt_prev, [dt_cfl, dt_limit], istep - 1)
+      dt = dt_limit
+      if (prm%dt_fixed > 0.0_rp) then
+         dt = prm%dt_fixed
+         call note_ratio(dt, [dt_cfl, dt_limit], istep)
+      end if
+   end subroutine first_stage
+
+   subroutine note_ratio(dt, limits, istep)
+      real(rp), intent(in) :: dt, limits(2)
+      integer, intent(in) :: istep
+      integer :: k
+      if (dt <= 0.0_rp) return
+      do k = 1, 2
+         if (limits(k) <= 0.0_rp) cycle
+         if (dt/limits(k) > ratio_max(k)) then
+            ratio_max(k) = dt/limits(k)
+            ratio_step(k) = istep
+         end if
+      end do
+   end subroutine note_ratio
 
    !> Forces of one stage: the pair loop, then (only when the case has
    !> bodies) the fluid force on each body and the contacts.
@@ -80,15 +136,18 @@ contains
 
    !> The time step from the forces just computed (Monaghan and Kos 1999:
    !> force, acoustic-viscous and laminar limits), limited further by the
-   !> bodies' accelerations and the stiffest contact. The maxima are taken
-   !> over every rank at once, so every rank takes the same step.
-   real(rp) function stage_dt(prm, p, w, bodies, ct) result(dt)
+   !> bodies' accelerations and motion (dt_cfl, the CFL limits) and by the
+   !> stiffest contact and fastest approach (the result: every limit). The
+   !> maxima are taken over every rank at once, so every rank takes the same step.
+   real(rp) function stage_dt(prm, p, w, bodies, ct, dt_cfl) result(dt)
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
       type(forces_work_t), intent(in) :: w
       type(body_t), intent(in) :: bodies(:)
       type(contact_t), intent(in) :: ct
-      real(rp) :: a2, m(4), amax2, cmax
+      real(rp), intent(out) :: dt_cfl
+      integer, parameter :: n_maxima = 5
+      real(rp) :: a2, m(n_maxima), amax2, cmax
       integer :: i
       amax2 = 0.0_rp
       cmax = prm%c0
@@ -97,18 +156,21 @@ contains
          amax2 = max(amax2, w%acc(1, i)**2 + w%acc(2, i)**2)
          cmax = max(cmax, w%cs(i))
       end do
-      ! largest squared acceleration, sound speed and viscous speed; stiffest contact
-      m = [amax2, cmax, w%mumax, -huge(1.0_rp)]
-      if (size(bodies) > 0) m(4) = -ct%dt_limit
+      ! largest squared acceleration, sound speed and viscous speed; stiffest
+      ! contact; fastest body
+      m = [amax2, cmax, w%mumax, -huge(1.0_rp), -huge(1.0_rp)]
+      if (size(bodies) > 0) m(4:5) = [-ct%dt_limit, -ct%dt_motion]
       call comm_max(m)
-      dt = prm%h/(m(2) + m(3))
-      if (m(1) > 0.0_rp) dt = min(dt, sqrt(prm%h/sqrt(m(1))))
-      dt = prm%cfl*dt
-      if (prm%visc == visc_laminar_sps .and. prm%nu > 0.0_rp) dt = min(dt, 0.125_rp*prm%h2/prm%nu)
+      dt_cfl = prm%h/(m(2) + m(3))
+      if (m(1) > 0.0_rp) dt_cfl = min(dt_cfl, sqrt(prm%h/sqrt(m(1))))
+      dt_cfl = prm%cfl*dt_cfl
+      if (prm%visc == visc_laminar_sps .and. prm%nu > 0.0_rp) dt_cfl = min(dt_cfl, 0.125_rp*prm%h2/prm%nu)
+      dt = dt_cfl
       if (size(bodies) == 0) return
       a2 = bodies_accel2(bodies)
-      if (a2 > 0.0_rp) dt = min(dt, prm%cfl*sqrt(prm%h/sqrt(a2)))
-      dt = min(dt, -m(4))
+      if (a2 > 0.0_rp) dt_cfl = min(dt_cfl, prm%cfl*sqrt(prm%h/sqrt(a2)))
+      dt_cfl = min(dt_cfl, -m(5))
+      dt = min(dt_cfl, -m(4))
    end function stage_dt
 
    subroutine save_state(p)
@@ -126,21 +188,25 @@ contains
 
    !> Symplectic (position Verlet, as in DualSPHysics) or the
    !> predictor-corrector of SPHysics; both evaluate forces twice a step.
-   subroutine two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, dt, symplectic)
+   subroutine two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       type(geom_object), intent(in) :: objs(:)
-      logical, intent(in) :: has_moving, symplectic
+      logical, intent(in) :: has_moving
       type(body_t), intent(inout) :: bodies(:)
       type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
-      real(rp), intent(out) :: dt
+      integer, intent(in) :: istep
+      real(rp), intent(out) :: dt, dt_limit
       integer :: i
-      real(rp) :: hdt, eps
+      real(rp) :: hdt, eps, lim, lim_cfl
+      logical :: symplectic
+      symplectic = prm%integrator /= integ_predictor_corrector
       call evaluate(prm, g, p, w, bodies, ct)
-      dt = stage_dt(prm, p, w, bodies, ct)
+      call first_stage(prm, p, w, bodies, ct, istep, dt, dt_limit)
+      if (dt > dt_limit) return
       hdt = 0.5_rp*dt
       call timer_start(t_integrate)
       call save_state(p)
@@ -163,6 +229,9 @@ contains
       call timer_stop(t_integrate)
       call comm_halo_refresh(p)
       call evaluate(prm, g, p, w, bodies, ct)
+      ! the step against the limits of the state at its middle
+      lim = stage_dt(prm, p, w, bodies, ct, lim_cfl)
+      call note_ratio(dt, [lim_cfl, lim], istep)
       call timer_start(t_integrate)
       if (symplectic) then
          do i = 1, p%n_own
@@ -201,7 +270,7 @@ contains
 
    !> Verlet: a leapfrog over two steps, with an Euler step every
    !> verlet_every steps to keep the two interleaved solutions together.
-   subroutine verlet(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt)
+   subroutine verlet(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
@@ -212,12 +281,13 @@ contains
       type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
       integer, intent(in) :: istep
-      real(rp), intent(out) :: dt
+      real(rp), intent(out) :: dt, dt_limit
       integer :: i
       real(rp) :: vnew(2), rnew, dt2, hdt2
       logical :: euler
       call evaluate(prm, g, p, w, bodies, ct)
-      dt = stage_dt(prm, p, w, bodies, ct)
+      call first_stage(prm, p, w, bodies, ct, istep, dt, dt_limit)
+      if (dt > dt_limit) return
       call timer_start(t_integrate)
       euler = mod(istep, prm%verlet_every) == 0
       dt2 = 2.0_rp*dt

@@ -96,6 +96,9 @@ CASES: dict[str, Bad] = {
                             choices=("symplectic", "predictor_corrector", "verlet"), words=("euler",)),
     # cfl: (0, 0.5]
     "cfl_0.9": Bad(edit("cfl = 0.2", "cfl = 0.9"), "numerics", "cfl", range=(0.0, 0.5)),
+    # dt_fixed: [0, 1e3] s
+    "dt_fixed_negative": Bad(edit("cfl = 0.2", "cfl = 0.2, dt_fixed = -1.0e-4"), "numerics", "dt_fixed",
+                             range=(0.0, 1.0e3)),
     # the fluid box reaches y = 0.7 above the domain's ymax = 0.5: the message gives the
     # domain [-0.1, 0.5] x [-0.1, 0.5]
     "fluid_outside_domain": Bad(edit("ymin = 0.0, ymax = 0.2", "ymin = 0.0, ymax = 0.7"), "box #1",
