@@ -59,6 +59,7 @@ from post.io import list_snapshots, read_case, read_csv, read_snapshot
 
 _CRITERION = re.compile(r"^\s*([a-z_]+)\s*(<=|>=|==)\s*([-+0-9.eE]+)\s*$")
 _RATIO = re.compile(r"largest dt / CFL limit of a state it reached\s+([0-9.eE+-]+)")
+_WALL = re.compile(r"particle-steps in\s+([0-9.eE+-]+) s")
 _RATIO_CONTACT = re.compile(r"largest dt / every limit, contacts too, of a state it reached\s+([0-9.eE+-]+)")
 _REFUSED = "is above the stable step"
 #: units of the figures in the table
@@ -310,7 +311,8 @@ def verdict(out: Path, case_file: Path | None = None) -> dict:
     values = {n: MEASURES[n](out, nml) for n in names}
     checks = [(n, op, bar, _holds(values[n], op, bar)) for n, op, bar in bars]
     e = _energy(out)
-    return {"case": out.name, "t_end": float(e["time"][-1]) if e else math.nan, "values": values,
+    wall = _log_figure(out, _WALL)
+    return {"case": out.name, "t_end": float(e["time"][-1]) if e else math.nan, "wall_s": wall, "values": values,
             "checks": checks, "report": report, "pass": all(c[3] for c in checks)}
 
 
@@ -341,7 +343,8 @@ def main(argv=None) -> int:
         print(f"{r.name}: skipped: the case file it came from is gone")
     runs = [r for r in runs if source_of(r) is not None]
     rows = [verdict(r) for r in runs]
-    table = ["| case | simulated [s] | criteria: measured (bar) | verdict |", "|---|---|---|---|"]
+    table = ["| case | simulated [s] | solver wall [s] | criteria: measured (bar) | verdict |",
+             "|---|---|---|---|---|"]
     for r, v in zip(runs, rows):
         text = line(v)
         print(text)
@@ -350,7 +353,8 @@ def main(argv=None) -> int:
         extra = [n for n in v["report"] if n not in [c[0] for c in v["checks"]]]
         if extra:
             cells += "; reported: " + "; ".join(f"{n} {_fmt(v['values'][n])}" for n in extra)
-        table.append(f"| {v['case']} | {_fmt(v['t_end'])} | {cells} | {'pass' if v['pass'] else 'FAIL'} |")
+        wall = f"{v['wall_s']:.1f}" if math.isfinite(v["wall_s"]) else "-"
+        table.append(f"| {v['case']} | {_fmt(v['t_end'])} | {wall} | {cells} | {'pass' if v['pass'] else 'FAIL'} |")
     if args.table:
         # hand-written notes below the marker survive the regeneration
         notes = ""
@@ -366,8 +370,10 @@ TABLE_HEAD = """# Stability of hard cases
 Made by `make stability`: every case of input/stability/ run on one rank, then
 `.venv/bin/python -m post.stability OUT/stability/* --table doc/stability.md`. Each case
 file states in its comment block what it checks and why, and on its `! pass:` line the
-bars this table applies; the figures are defined in post/stability.py. A coarse subset
-(shorter or coarser runs, the same bars) runs in `make test` (tests/test_stability.py).
+bars this table applies; the figures are defined in post/stability.py. Solver wall:
+the time loop's wall time (the `cost:` line of run.log), one rank of a shared 2-core
+machine. A coarse subset (shorter or coarser runs, the same bars) runs in `make test`
+(tests/test_stability.py).
 
 """
 
