@@ -21,6 +21,9 @@ the figures measured on a run folder:
   passed into or through a wall;
 - ``armour_move_dn``: largest distance of an armour unit's centre from where it was at
   t = 0.5 s, later in the run, in dn (armour.csv, bodies.csv);
+- ``body_move_dn``, ``body_turn_deg``: largest distance of the first body's centre
+  from where it was at t = 0.5 s, later in the run, over its width, and the largest
+  angle it turned from then (bodies.csv);
 - ``draft_error_dp``: |draft - Archimedes' draft| / dp of the first floating box in
   the first fluid ``&box``, the draft being the water level (fluid volume sum m/rho
   plus the submerged part of the body, over the tank width) minus the body's bottom,
@@ -217,6 +220,31 @@ def armour_move_dn(out: Path, nml) -> float:
     return move / lay.dn
 
 
+def _body_after(out: Path, t0: float = 0.5):
+    """Time, x, y and angle of body 1 from the sample nearest t0 on (bodies.csv)."""
+    b = _bodies(out)
+    if not b:
+        return None
+    m = b["body"] == 1
+    t = b["time"][m]
+    i = int(np.argmin(np.abs(t - t0)))
+    return t[i:], b["x"][m][i:], b["y"][m][i:], b["angle"][m][i:]
+
+
+def body_move_dn(out: Path, nml) -> float:
+    s = _body_after(out)
+    bodies = _groups(nml, "body")
+    if s is None or not bodies:
+        return math.nan
+    _, x, y, _ = s
+    return float(np.hypot(x - x[0], y - y[0]).max()) / float(bodies[0]["width"])
+
+
+def body_turn_deg(out: Path, nml) -> float:
+    s = _body_after(out)
+    return float(np.degrees(np.abs(s[3] - s[3][0]).max())) if s is not None else math.nan
+
+
 def draft_error_dp(out: Path, nml) -> float:
     b = _bodies(out)
     boxes = [g for g in _groups(nml, "box") if str(g.get("role", "")).strip().lower() == "fluid"]
@@ -289,8 +317,9 @@ def bad_values_in_output(out: Path, nml) -> float:
 
 
 MEASURES = {f.__name__: f for f in (penetration_dp, energy_gain_rel, creep_dp, lost, pressure_noise, ke_growth,
-                                    crossed, armour_move_dn, draft_error_dp, dt_ratio, dt_ratio_contact, exit_status,
-                                    refused_fixed_step, bad_values_in_output)}
+                                    crossed, armour_move_dn, body_move_dn, body_turn_deg, draft_error_dp,
+                                    dt_ratio, dt_ratio_contact, exit_status, refused_fixed_step,
+                                    bad_values_in_output)}
 
 
 def _holds(value: float, op: str, bar: float) -> bool:
