@@ -137,7 +137,7 @@ contains
                        '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
       else
          call scene_build(c, p, prm, bodies)
-         call bodies_place(bodies, p)
+         if (size(bodies) > 0) call bodies_place(bodies, p)
          ! moving walls start on their motion: position and velocity at t = 0
          if (any(p%kind(1:p%n) == kind_moving)) call motion_apply(c%objs, p, 0.0_rp)
          st%n_fluid0 = particles_count_kind(p, kind_fluid)

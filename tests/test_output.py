@@ -157,6 +157,9 @@ def test_run_log_and_screen(run) -> None:
     assert len(progress) == last_step, f"{len(progress)} progress lines for {last_step} steps"
     assert progress[-1].split("%")[0].endswith("100.0 "), progress[-1]
     assert any("microseconds per particle-step" in ln for ln in screen)
+    # the paddle case has no body: its effects line names neither bodies nor contact
+    effects = [ln for ln in screen if "effects on:" in ln]
+    assert len(effects) == 1 and "rigid bodies" not in effects[0] and "contact" not in effects[0], effects
     log = (out / "run.log").read_text().splitlines()
     assert log, "run.log is empty"
     assert [ln for ln in log if PROGRESS_RE.match(ln)] == progress, "run.log lacks the progress lines"

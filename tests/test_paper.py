@@ -216,9 +216,8 @@ DROP = """&run case_name='drop', t_end=0.8, dt_out=0.4, energy_interval=0.001, o
 
 def test_hard_contacts_stay_stable(tmp_path: Path, mbsph: Path) -> None:
     """A box resting on the floor and a box sliding at 1 m/s into a corner: no
-    interpenetration beyond 0.5 dp, no energy gain, no NaN. (A heavy box dropped from
-    1 m on a light one and a wedge on its tip do not meet the 0.5 dp bar yet: see
-    doc/contact.md.)"""
+    interpenetration beyond 0.5 dp, no energy gain, no NaN. (The heavy drop from 1 m and
+    the wedge on its tip are in tests/test_stability.py.)"""
     proc, out = run_case(DROP, tmp_path, binary=mbsph)
     assert_ok(proc)
     e = read_csv(out / "energy.csv")
@@ -330,3 +329,38 @@ def test_isolated_collision_conserves_momentum(model: str, tmp_path: Path, mbsph
     assert abs(a["u"][-1] - a["u"][0]) > 0.1, "no collision happened"
     # 1e-10 relative: the issue's bar for an isolated two-body collision
     assert np.max(np.hypot(px - px[0], py - py[0])) <= 1e-10 * p0
+
+
+def test_bodies_stay_rigid_and_are_named_in_the_effects_line(tmp_path: Path, mbsph: Path) -> None:
+    """Two bodies that collide and spin: every particle is placed from its body's pose
+    after every stage, so in the body frame (pose removed) the particles sit exactly
+    where they started. The effects line names the bodies and the contact model."""
+    import h5py
+    from post.io import list_snapshots, read_snapshot
+    proc, out = run_case(COLLIDE.format(model="noncohesive_spring", integrator="symplectic"), tmp_path,
+                         binary=mbsph)
+    assert_ok(proc)
+    effects = [ln for ln in proc.stdout.splitlines() if "effects on:" in ln]
+    assert len(effects) == 1 and "2 rigid bodies, contact noncohesive_spring" in effects[0], effects
+    snaps = list_snapshots(out)
+
+    def body_frame(path: Path) -> dict[int, np.ndarray]:
+        s = read_snapshot(path)
+        with h5py.File(path) as f:
+            pose = f["body_pose"][()]
+        frames = {}
+        for b in (1, 2):
+            x, y, th = pose[b - 1]
+            r = s.position[s.body == b] - [x, y]
+            c, sn = math.cos(th), math.sin(th)
+            # rotate back by the current angle: the pattern in a frame fixed to the body
+            frames[b] = np.column_stack([c * r[:, 0] + sn * r[:, 1], -sn * r[:, 0] + c * r[:, 1]])
+        return frames
+
+    first, last = body_frame(snaps[0]), body_frame(snaps[-1])
+    end = read_csv(out / "bodies.csv")
+    assert abs(body(end, 1)["rotation"][-1]) > 0.1, "the disc hardly turned: the test would prove little"
+    for b in (1, 2):
+        # 1e-12 m: rounding of the placement from the pose; a drift of the pattern is far larger
+        err = float(np.max(np.abs(last[b] - first[b])))
+        assert err <= 1e-12, f"body {b}: particles moved {err:.2e} m in the body frame"
