@@ -11,7 +11,7 @@ module body_dynamics
    public :: body_t, motion_floating, motion_fixed, motion_prescribed, bodies_place, bodies_fluid_forces, &
              bodies_damping_reset, bodies_damping_add, &
              bodies_save, bodies_predict, bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, &
-             bodies_accel2, body_of, bodies_energy, bodies_sum_ranks
+             bodies_accel2, body_of, bodies_energy, bodies_sum_ranks, bodies_prescribe
 
    integer, parameter :: motion_floating = 1, motion_fixed = 2, motion_prescribed = 3
 
@@ -26,6 +26,12 @@ module body_dynamics
       real(rp) :: omega = 0.0_rp            !< angular velocity [rad/s]
       real(rp) :: c_start(2) = 0.0_rp       !< centre at t = 0
       real(rp) :: theta_start = 0.0_rp      !< angle at t = 0 (particle frame)
+      ! prescribed motion: pose(t) = pose_start + rate t + amp sin(2 pi t / period + phase),
+      ! pose = (x, y, theta)
+      real(rp) :: rate(3) = 0.0_rp          !< constant rates u, v [m/s], omega [rad/s]
+      real(rp) :: amp(3) = 0.0_rp           !< amplitudes [m, m, rad]
+      real(rp) :: period = 0.0_rp           !< [s]; 0: no oscillation
+      real(rp) :: phase = 0.0_rp            !< [rad]
       real(rp) :: m_surf = 0.0_rp           !< body mass per surface particle [kg/m]
       real(rp) :: mu = 0.0_rp, restitution = 0.5_rp, young = 2.0e10_rp, poisson = 0.2_rp
       real(rp) :: rbound = 0.0_rp           !< largest distance of a particle from the centre [m]
@@ -308,10 +314,9 @@ contains
       call implicit_velocities(bodies, reshape([(bodies(b)%v, b=1, size(bodies))], [2, size(bodies)]), &
                                bodies(:)%omega, hdt, vn, wn)
       do b = 1, size(bodies)
-         if (bodies(b)%motion == motion_fixed) cycle
+         if (bodies(b)%motion /= motion_floating) cycle
          bodies(b)%c = bodies(b)%c + hdt*bodies(b)%v
          bodies(b)%theta = bodies(b)%theta + hdt*bodies(b)%omega
-         if (bodies(b)%motion /= motion_floating) cycle
          bodies(b)%v = vn(:, b)
          bodies(b)%omega = wn(b)
       end do
@@ -326,11 +331,9 @@ contains
       call implicit_velocities(bodies, reshape([(bodies(b)%v0, b=1, size(bodies))], [2, size(bodies)]), &
                                bodies(:)%omega0, dt, vn, wn)
       do b = 1, size(bodies)
-         if (bodies(b)%motion == motion_fixed) cycle
-         if (bodies(b)%motion == motion_floating) then
-            bodies(b)%v = vn(:, b)
-            bodies(b)%omega = wn(b)
-         end if
+         if (bodies(b)%motion /= motion_floating) cycle
+         bodies(b)%v = vn(:, b)
+         bodies(b)%omega = wn(b)
          bodies(b)%c = bodies(b)%c + 0.5_rp*dt*bodies(b)%v
          bodies(b)%theta = bodies(b)%theta + 0.5_rp*dt*bodies(b)%omega
       end do
@@ -346,11 +349,7 @@ contains
       call implicit_velocities(bodies, reshape([(bodies(b)%v0, b=1, size(bodies))], [2, size(bodies)]), &
                                bodies(:)%omega0, 0.5_rp*dt, vh, wh)
       do b = 1, size(bodies)
-         if (bodies(b)%motion == motion_fixed) cycle
-         if (bodies(b)%motion /= motion_floating) then
-            vh(:, b) = bodies(b)%v
-            wh(b) = bodies(b)%omega
-         end if
+         if (bodies(b)%motion /= motion_floating) cycle
          bodies(b)%c = bodies(b)%c0 + dt*vh(:, b)
          bodies(b)%theta = bodies(b)%theta0 + dt*wh(b)
          bodies(b)%v = 2.0_rp*vh(:, b) - bodies(b)%v0
@@ -368,15 +367,43 @@ contains
       call implicit_velocities(bodies, reshape([(bodies(b)%v, b=1, size(bodies))], [2, size(bodies)]), &
                                bodies(:)%omega, dt, vn, wn)
       do b = 1, size(bodies)
-         if (bodies(b)%motion == motion_fixed) cycle
+         if (bodies(b)%motion /= motion_floating) cycle
          call accel(bodies(b), a, alpha)
          bodies(b)%c = bodies(b)%c + dt*bodies(b)%v + 0.5_rp*dt*dt*a
          bodies(b)%theta = bodies(b)%theta + dt*bodies(b)%omega + 0.5_rp*dt*dt*alpha
-         if (bodies(b)%motion /= motion_floating) cycle
          bodies(b)%v = vn(:, b)
          bodies(b)%omega = wn(b)
       end do
    end subroutine bodies_verlet
+
+   !> Pose and velocities of the prescribed bodies at time t, from their
+   !> function of time (the integrators step only the floating ones), so a
+   !> prescribed body is exactly where its function says at every stage and
+   !> a restart needs no state beyond t.
+   subroutine bodies_prescribe(bodies, t)
+      type(body_t), intent(inout) :: bodies(:)
+      real(rp), intent(in) :: t
+      real(rp), parameter :: two_pi = 6.28318530717958647692_rp
+      real(rp) :: w, s, co
+      integer :: b
+      do b = 1, size(bodies)
+         associate (x => bodies(b))
+            if (x%motion /= motion_prescribed) cycle
+            s = 0.0_rp
+            co = 0.0_rp
+            w = 0.0_rp
+            if (x%period > 0.0_rp) then
+               w = two_pi/x%period
+               s = sin(w*t + x%phase)
+               co = cos(w*t + x%phase)
+            end if
+            x%c = x%c_start + x%rate(1:2)*t + x%amp(1:2)*s
+            x%theta = x%theta_start + x%rate(3)*t + x%amp(3)*s
+            x%v = x%rate(1:2) + x%amp(1:2)*w*co
+            x%omega = x%rate(3) + x%amp(3)*w*co
+         end associate
+      end do
+   end subroutine bodies_prescribe
 
    !> Kinetic and potential energy of the floating bodies [J/m].
    subroutine bodies_energy(bodies, ekin, epot)

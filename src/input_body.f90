@@ -26,6 +26,10 @@ module input_body
       character(len=name_len) :: motion = 'floating'   !< 'floating' | 'fixed' | 'prescribed'
       real(rp) :: u = 0.0_rp, v = 0.0_rp               !< initial (or prescribed) velocity [m/s]
       real(rp) :: omega = 0.0_rp                       !< initial (or prescribed) angular velocity [rad/s]
+      real(rp) :: amplitude_x = 0.0_rp, amplitude_y = 0.0_rp  !< prescribed oscillation of the centre [m]
+      real(rp) :: amplitude_angle = 0.0_rp             !< prescribed oscillation of the angle [rad]
+      real(rp) :: period = 0.0_rp                      !< period of the oscillation [s]
+      real(rp) :: phase = 0.0_rp                       !< phase of the oscillation at t = 0 [rad]
       real(rp) :: mu = 0.0_rp                          !< Coulomb friction coefficient [-]
       real(rp) :: restitution = 0.5_rp                 !< restitution coefficient (hertz) [-]
       real(rp) :: young = 2.0e10_rp                    !< Young's modulus (hertz) [Pa]
@@ -49,10 +53,11 @@ module input_body
    type(body_cfg) :: dflt
    character(len=name_len) :: shape, motion, model
    real(rp) :: x, y, radius, width, height, angle, density, mass, u, v, omega, mu, restitution, young, poisson
+   real(rp) :: amplitude_x, amplitude_y, amplitude_angle, period, phase
    real(rp) :: vx(body_max_vert), vy(body_max_vert)
    integer :: nvert, layers
    namelist /body/ shape, x, y, radius, width, height, angle, nvert, vx, vy, density, mass, motion, u, v, &
-      omega, mu, restitution, young, poisson, layers
+      omega, amplitude_x, amplitude_y, amplitude_angle, period, phase, mu, restitution, young, poisson, layers
    real(rp) :: r_f, b, c0, q0, stick_velocity, impact, barrier
    namelist /contact/ model, r_f, b, c0, q0, stick_velocity, impact, barrier
 
@@ -64,6 +69,8 @@ contains
       angle = c%angle; nvert = c%nvert; vx = c%vx; vy = c%vy; density = c%density; mass = c%mass
       motion = c%motion; u = c%u; v = c%v; omega = c%omega; mu = c%mu; restitution = c%restitution
       young = c%young; poisson = c%poisson; layers = c%layers
+      amplitude_x = c%amplitude_x; amplitude_y = c%amplitude_y; amplitude_angle = c%amplitude_angle
+      period = c%period; phase = c%phase
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -72,6 +79,8 @@ contains
       c%angle = angle; c%nvert = nvert; c%vx = vx; c%vy = vy; c%density = density; c%mass = mass
       c%motion = motion; c%u = u; c%v = v; c%omega = omega; c%mu = mu; c%restitution = restitution
       c%young = young; c%poisson = poisson; c%layers = layers
+      c%amplitude_x = amplitude_x; c%amplitude_y = amplitude_y; c%amplitude_angle = amplitude_angle
+      c%period = period; c%phase = phase
    end subroutine from_vars
 
    subroutine read_bodies(file, dp, bodies)
@@ -131,10 +140,48 @@ contains
             if (abs(c%u) > 1.0e3_rp .or. abs(c%v) > 1.0e3_rp) call input_error(file, g, 'u, v', &
                'speeds above 1000 m/s ('//real_str(max(abs(c%u), abs(c%v)))//') are not meant')
             if (abs(c%omega) > 1.0e3_rp*pi) call input_error(file, g, 'omega', 'above 1000 pi rad/s')
+            call check_oscillation(file, g, c)
          end associate
       end do
       close (u_)
    end subroutine read_bodies
+
+   !> The oscillation of a prescribed body: amplitudes, period and phase.
+   subroutine check_oscillation(file, g, c)
+      character(len=*), intent(in) :: file, g
+      type(body_cfg), intent(in) :: c
+      character(len=*), parameter :: names(5) = [character(len=15) :: 'amplitude_x', 'amplitude_y', &
+                                                 'amplitude_angle', 'period', 'phase']
+      real(rp) :: vals(5)
+      integer :: k
+      vals = [c%amplitude_x, c%amplitude_y, c%amplitude_angle, c%period, c%phase]
+      if (c%motion /= 'prescribed') then
+         do k = 1, size(vals)
+            ! written so that a NaN is refused too
+            if (.not. abs(vals(k)) <= 0.0_rp) call input_error(file, g, trim(names(k)), &
+               "only a body with motion = 'prescribed' oscillates; this one is '"//trim(c%motion)//"'")
+         end do
+         return
+      end if
+      call check_real(file, g, 'amplitude_x', c%amplitude_x, -1.0e4_rp, 1.0e4_rp)
+      call check_real(file, g, 'amplitude_y', c%amplitude_y, -1.0e4_rp, 1.0e4_rp)
+      call check_real(file, g, 'amplitude_angle', c%amplitude_angle, -2.0_rp*pi, 2.0_rp*pi)
+      call check_real(file, g, 'phase', c%phase, -2.0_rp*pi, 2.0_rp*pi)
+      if (maxval(abs(vals(1:3))) <= 0.0_rp) then
+         call check_real(file, g, 'period', c%period, 0.0_rp, 1.0e4_rp)
+         return
+      end if
+      if (c%period <= 0.0_rp) call input_error(file, g, 'period', 'a non-zero amplitude needs a period in (0, 1e4] s')
+      call check_real(file, g, 'period', c%period, 0.0_rp, 1.0e4_rp, lo_open=.true.)
+      ! the peak speeds 2 pi a / period, under the same bounds as u, v and omega
+      if (2.0_rp*pi*max(abs(c%amplitude_x), abs(c%amplitude_y))/c%period > 1.0e3_rp) &
+         call input_error(file, g, 'amplitude_x, amplitude_y, period', 'peak speed 2 pi amplitude / period '// &
+                          real_str(2.0_rp*pi*max(abs(c%amplitude_x), abs(c%amplitude_y))/c%period)// &
+                          ' m/s is above 1000 m/s')
+      if (2.0_rp*pi*abs(c%amplitude_angle)/c%period > 1.0e3_rp*pi) &
+         call input_error(file, g, 'amplitude_angle, period', 'peak angular speed 2 pi amplitude_angle / period '// &
+                          'is above 1000 pi rad/s')
+   end subroutine check_oscillation
 
    subroutine write_bodies(u_, bodies)
       integer, intent(in) :: u_

@@ -113,6 +113,12 @@ contains
          b%v = [bc%u, bc%v]
          b%omega = bc%omega
       end if
+      if (b%motion == motion_prescribed) then
+         b%rate = [bc%u, bc%v, bc%omega]
+         b%amp = [bc%amplitude_x, bc%amplitude_y, bc%amplitude_angle]
+         b%period = bc%period
+         b%phase = bc%phase
+      end if
       b%mu = bc%mu
       b%restitution = bc%restitution
       b%young = bc%young

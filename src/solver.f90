@@ -15,7 +15,7 @@ module solver
    use params, only: params_t, params_init, visc_artificial, diff_none, kgc_gradient, kgc_shepard, &
                      integ_verlet, bnd_repulsive
    use scene, only: scene_build, scene_bodies
-   use body_dynamics, only: body_t, bodies_place, bodies_energy
+   use body_dynamics, only: body_t, bodies_place, bodies_energy, bodies_prescribe
    use contact, only: contact_t, contact_init
    use io_bodies, only: bodies_csv_open, bodies_csv_row, bodies_csv_close
    use grid, only: grid_t, grid_init, grid_sort, grid_first_column_end, grid_add_halo
@@ -137,7 +137,11 @@ contains
                        '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
       else
          call scene_build(c, p, prm, bodies)
-         if (size(bodies) > 0) call bodies_place(bodies, p)
+         if (size(bodies) > 0) then
+            ! prescribed bodies start on their function of time at t = 0
+            call bodies_prescribe(bodies, 0.0_rp)
+            call bodies_place(bodies, p)
+         end if
          ! moving walls start on their motion: position and velocity at t = 0
          if (any(p%kind(1:p%n) == kind_moving)) call motion_apply(c%objs, p, 0.0_rp)
          st%n_fluid0 = particles_count_kind(p, kind_fluid)

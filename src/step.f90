@@ -17,7 +17,7 @@ module step
    use timers, only: timer_start, timer_stop, t_pairs, t_integrate, t_bodies
    use body_dynamics, only: body_t, bodies_place, bodies_fluid_forces, bodies_save, bodies_predict, &
                             bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, bodies_accel2, &
-                            bodies_sum_ranks
+                            bodies_sum_ranks, bodies_prescribe
    use contact, only: contact_t, contact_forces
    use comm, only: comm_max
    use comm_halo, only: comm_halo_reverse, comm_halo_refresh
@@ -224,6 +224,7 @@ contains
       if (size(bodies) > 0) then
          call bodies_save(bodies)
          call bodies_predict(bodies, hdt)
+         call bodies_prescribe(bodies, t + hdt)
          call bodies_place(bodies, p)
       end if
       call timer_stop(t_integrate)
@@ -263,6 +264,7 @@ contains
          else
             call bodies_correct_pc(bodies, dt)
          end if
+         call bodies_prescribe(bodies, t + dt)
          call bodies_place(bodies, p)
       end if
       call timer_stop(t_integrate)
@@ -316,6 +318,7 @@ contains
       if (has_moving) call motion_apply(objs, p, t + dt)
       if (size(bodies) > 0) then
          call bodies_verlet(bodies, dt)
+         call bodies_prescribe(bodies, t + dt)
          call bodies_place(bodies, p)
       end if
       call timer_stop(t_integrate)

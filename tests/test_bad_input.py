@@ -77,6 +77,9 @@ POLYGON_2 = "&polygon role = 'solid', nvert = 2, x = 0.2, 0.3, y = 0.1, 0.1 /\n"
 # is the crossing, not a zero area, that must be reported)
 POLYGON_CROSSED = "&polygon role = 'solid', nvert = 4, x = 0.2, 0.4, 0.4, 0.2, y = 0.1, 0.3, 0.1, 0.2 /\n"
 
+# a box body clear of the water and the floor; the cases below give it an oscillation
+BODY = "&body shape = 'box', x = 0.3, y = 0.2, width = 0.06, height = 0.06, {} /\n"
+
 CASES: dict[str, Bad] = {
     "unknown_variable": Bad(edit("  dp = 0.02\n", "  dp = 0.02\n  smoothing = 1.5\n"), "numerics", "smoothing",
                             words=("unknown variable",)),
@@ -119,6 +122,12 @@ CASES: dict[str, Bad] = {
     "gamma_zero": Bad(edit("gamma = 7.0", "gamma = 0.0"), "fluid", "gamma", range=(1.0, 10.0)),
     "dp_malformed": Bad(edit("dp = 0.02", "dp = 'abc'"), "numerics", "dp"),
     "run_twice": Bad(BASE + "&run case_name = 'again' /\n", "run", words=("more than once",)),
+    # a prescribed body's oscillation needs period in (0, 1e4] s
+    "body_amplitude_without_period": Bad(BASE + BODY.format("motion = 'prescribed', amplitude_x = 0.01"),
+                                         "body #1", "period", range=(0.0, 1.0e4), words=("amplitude",)),
+    # only a prescribed body oscillates
+    "body_amplitude_on_floating": Bad(BASE + BODY.format("density = 500.0, amplitude_y = 0.01, period = 1.0"),
+                                      "body #1", "amplitude_y", words=("prescribed", "floating")),
 }
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
