@@ -150,16 +150,19 @@ contains
    subroutine check_oscillation(file, g, c)
       character(len=*), intent(in) :: file, g
       type(body_cfg), intent(in) :: c
-      character(len=*), parameter :: names(5) = [character(len=15) :: 'amplitude_x', 'amplitude_y', &
-                                                 'amplitude_angle', 'period', 'phase']
-      real(rp) :: vals(5)
+      integer, parameter :: nvar = 5
+      character(len=*), parameter :: names(nvar) = [character(len=15) :: 'amplitude_x', 'amplitude_y', &
+                                                    'amplitude_angle', 'period', 'phase']
+      real(rp) :: vals(nvar), speed
       integer :: k
       vals = [c%amplitude_x, c%amplitude_y, c%amplitude_angle, c%period, c%phase]
       if (c%motion /= 'prescribed') then
-         do k = 1, size(vals)
+         do k = 1, nvar
             ! written so that a NaN is refused too
-            if (.not. abs(vals(k)) <= 0.0_rp) call input_error(file, g, trim(names(k)), &
-               "only a body with motion = 'prescribed' oscillates; this one is '"//trim(c%motion)//"'")
+            if (.not. abs(vals(k)) <= 0.0_rp) then
+               call input_error(file, g, trim(names(k)), &
+                                "only a body with motion = 'prescribed' oscillates; this one is '"//trim(c%motion)//"'")
+            end if
          end do
          return
       end if
@@ -174,13 +177,15 @@ contains
       if (c%period <= 0.0_rp) call input_error(file, g, 'period', 'a non-zero amplitude needs a period in (0, 1e4] s')
       call check_real(file, g, 'period', c%period, 0.0_rp, 1.0e4_rp, lo_open=.true.)
       ! the peak speeds 2 pi a / period, under the same bounds as u, v and omega
-      if (2.0_rp*pi*max(abs(c%amplitude_x), abs(c%amplitude_y))/c%period > 1.0e3_rp) &
+      speed = 2.0_rp*pi*max(abs(c%amplitude_x), abs(c%amplitude_y))/c%period
+      if (speed > 1.0e3_rp) then
          call input_error(file, g, 'amplitude_x, amplitude_y, period', 'peak speed 2 pi amplitude / period '// &
-                          real_str(2.0_rp*pi*max(abs(c%amplitude_x), abs(c%amplitude_y))/c%period)// &
-                          ' m/s is above 1000 m/s')
-      if (2.0_rp*pi*abs(c%amplitude_angle)/c%period > 1.0e3_rp*pi) &
-         call input_error(file, g, 'amplitude_angle, period', 'peak angular speed 2 pi amplitude_angle / period '// &
-                          'is above 1000 pi rad/s')
+                          real_str(speed)//' m/s is above 1000 m/s')
+      end if
+      if (2.0_rp*pi*abs(c%amplitude_angle)/c%period > 1.0e3_rp*pi) then
+         call input_error(file, g, 'amplitude_angle, period', &
+                          'peak angular speed 2 pi amplitude_angle / period is above 1000 pi rad/s')
+      end if
    end subroutine check_oscillation
 
    subroutine write_bodies(u_, bodies)
