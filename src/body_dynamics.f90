@@ -3,7 +3,7 @@
 !> every stage, so a body stays exactly rigid.
 module body_dynamics
    use kinds, only: rp
-   use constants, only: kind_floating, kind_fixed, kind_moving
+   use constants, only: kind_floating, kind_fixed, kind_moving, pi
    use particles, only: particles_t
    use comm, only: comm_size, comm_sum
    implicit none
@@ -383,7 +383,6 @@ contains
    subroutine bodies_prescribe(bodies, t)
       type(body_t), intent(inout) :: bodies(:)
       real(rp), intent(in) :: t
-      real(rp), parameter :: two_pi = 6.28318530717958647692_rp
       real(rp) :: w, s, co
       integer :: b
       do b = 1, size(bodies)
@@ -393,7 +392,7 @@ contains
             co = 0.0_rp
             w = 0.0_rp
             if (x%period > 0.0_rp) then
-               w = two_pi/x%period
+               w = 2.0_rp*pi/x%period
                s = sin(w*t + x%phase)
                co = cos(w*t + x%phase)
             end if
