@@ -45,7 +45,7 @@ module comm
    !> One exchange with two ranks: send to one, receive from another (the
    !> caller times it; comm_halo wraps whole exchanges in t_comm).
    interface comm_sendrecv
-      module procedure sendrecv_r, sendrecv_i
+      module procedure sendrecv_r, sendrecv_i, sendrecv_count
    end interface comm_sendrecv
 
    integer, parameter :: tag = 7
@@ -225,6 +225,17 @@ contains
       call MPI_Sendrecv(sbuf, ns, MPI_INTEGER, mpi_peer(dest), tag, rbuf, nr, MPI_INTEGER, mpi_peer(src), tag, &
                         MPI_COMM_WORLD, MPI_STATUS_IGNORE)
    end subroutine sendrecv_i
+
+   !> One count to rank dest and one from rank src (either may be
+   !> comm_no_rank); n_recv is left as it is when nothing arrives.
+   subroutine sendrecv_count(n_send, dest, n_recv, src)
+      integer, intent(in) :: n_send, dest, src
+      integer, intent(inout) :: n_recv
+      integer :: r(1)
+      r(1) = n_recv
+      call sendrecv_i([n_send], 1, dest, r, 1, src)
+      n_recv = r(1)
+   end subroutine sendrecv_count
 
    !> One integer to and from every rank: scount(r+1) goes to rank r, and
    !> rcount(r+1) is what rank r sent here (the caller times it).

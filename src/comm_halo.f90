@@ -108,7 +108,7 @@ contains
    subroutine comm_halo_migrate(p, drop)
       type(particles_t), intent(inout) :: p
       logical, allocatable, intent(inout) :: drop(:)
-      integer :: i, d, me, nl, nr, rl, rr, k, cnt(1)
+      integer :: i, d, me, nl, nr, rl, rr, k
       logical, allocatable :: grown(:)
       if (comm_size() == 1) return
       call timer_start(t_comm)
@@ -139,13 +139,11 @@ contains
       call ensure(sbuf, 1)
       call ensure(sbuf2, 1)
       ! to the left, from the right
-      cnt = 0
-      call comm_sendrecv([nl], 1, left(), cnt, 1, right())
-      rr = cnt(1)
+      rr = 0
+      call comm_sendrecv(nl, left(), rr, right())
       ! to the right, from the left
-      cnt = 0
-      call comm_sendrecv([nr], 1, right(), cnt, 1, left())
-      rl = cnt(1)
+      rl = 0
+      call comm_sendrecv(nr, right(), rl, left())
       call ensure(rbuf, max(rr, 1)*nfull)
       call ensure(rbuf2, max(rl, 1)*nfull)
       call comm_sendrecv(sbuf, nl*nfull, left(), rbuf, rr*nfull, right())
@@ -176,7 +174,7 @@ contains
    subroutine comm_halo_build(p, nfirst)
       type(particles_t), intent(inout) :: p
       integer, intent(in) :: nfirst
-      integer :: i, k, m, cnt(1)
+      integer :: i, k, m
       if (comm_size() == 1) return
       call timer_start(t_comm)
       n_send = 0
@@ -187,9 +185,8 @@ contains
          sbuf(k + 1:k + nhalo) = [p%x(:, i), p%v(:, i), p%rho(i), p%mass(i), p%nrm(:, i), p%xb(:, i), p%nb(:, i), &
                                   real(p%kind(i), rp), real(p%body(i), rp), real(p%id(i), rp), real(p%surf(i), rp)]
       end do
-      cnt = 0
-      call comm_sendrecv([n_send], 1, left(), cnt, 1, right())
-      n_recv = cnt(1)
+      n_recv = 0
+      call comm_sendrecv(n_send, left(), n_recv, right())
       call ensure(rbuf, max(n_recv, 1)*nhalo)
       call comm_sendrecv(sbuf, n_send*nhalo, left(), rbuf, n_recv*nhalo, right())
       p%n = p%n_own
