@@ -157,18 +157,16 @@ def _fluid(nml) -> tuple[float, float, float]:
 
 
 def pressure_noise(out: Path, nml) -> float:
-    path = out / "gauges.csv"
-    if not path.is_file():
+    from post.waves import read_gauges
+    if not (out / "gauges.csv").is_file():
         return math.nan
-    lines = [ln for ln in path.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
-    names = lines[0].split(",")
-    data = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
-    cols = [j for j, n in enumerate(names) if n.startswith("p_")]
+    _, t, columns = read_gauges(out)
+    cols = [n for n in columns if n.startswith("p_")]
     rho0, g, depth = _fluid(nml)
-    if not cols or depth <= 0.0 or len(data) < 2:
+    if not cols or depth <= 0.0 or len(t) < 2:
         return math.nan
-    keep = data[:, 0] > 10.0 * math.sqrt(depth / g)
-    return float(np.std(data[keep, cols[0]])) / (rho0 * g * depth) if np.count_nonzero(keep) > 1 else math.nan
+    keep = t > 10.0 * math.sqrt(depth / g)
+    return float(np.std(columns[cols[0]][keep])) / (rho0 * g * depth) if np.count_nonzero(keep) > 1 else math.nan
 
 
 def ke_growth(out: Path, nml) -> float:
