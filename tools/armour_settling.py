@@ -23,23 +23,25 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT))
+from post.armour import read_armour  # noqa: E402
+from post.io import read_csv  # noqa: E402
 from test_waves import SETTLE, layer_porosity  # noqa: E402
 
 
 def report(out: Path, t0: float, t1: float, label: str | None = None) -> None:
     measured, reported, target = layer_porosity(out / "armour.csv")
-    head = (out / "armour.csv").read_text().splitlines()[0].lstrip("# ")
-    dn = float(dict(kv.split("=") for kv in head.split(","))["dn"])
-    b = np.genfromtxt(out / "bodies.csv", delimiter=",", names=True)
-    u = np.genfromtxt(out / "armour.csv", delimiter=",", names=True, skip_header=1)
+    layer = read_armour(out)
+    dn = layer.dn
+    b = read_csv(out / "bodies.csv")
     late, early = [], []
-    for body in u["body"]:
+    for body in layer.body:
         m = (b["body"] == body) & (b["time"] <= t1 + 0.01)
         t, x, y = b["time"][m], b["x"][m], b["y"][m]
         i = int(np.argmin(abs(t - t0)))
         late.append(np.hypot(x[i:] - x[i], y[i:] - y[i]).max())
         early.append(np.hypot(x - x[0], y - y[0]).max())
-    print(f"{label or out}: {len(u)} units of dn = {dn:g} m; porosity target {target:g}, reported {reported:.4f}, "
+    print(f"{label or out}: {len(layer.body)} units of dn = {dn:g} m; porosity target {target:g}, reported {reported:.4f}, "
           f"recomputed {measured:.4f}; largest move {t0:g} s to {t1:g} s: {max(late) / dn:.4f} dn; "
           f"largest move from the start: {max(early) / dn:.3f} dn")
 
