@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import argparse
 import glob
-import io
 import json
 import math
 import subprocess
@@ -39,7 +38,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from post.wave_cases import flume_case  # noqa: E402
-from post.waves import regular_wave_height  # noqa: E402
+from post.waves import read_gauges, regular_wave_height  # noqa: E402
 
 DIR = ROOT / "OUT" / "waves_loss"
 DEPTH = 0.25
@@ -67,8 +66,7 @@ def cmd_run(a: argparse.Namespace) -> None:
 
 def load(name: str):
     m = json.loads((DIR / f"{name}.json").read_text())
-    lines = [ln for ln in (DIR / name / "gauges.csv").read_text().splitlines() if not ln.startswith("#")]
-    d = np.genfromtxt(io.StringIO("\n".join(lines)), delimiter=",", names=True)
+    _, _, d = read_gauges(DIR / name)
     return m, d
 
 
