@@ -16,7 +16,8 @@ module contact
    use comm, only: comm_size, comm_allgatherv
    implicit none
    private
-   public :: contact_t, contact_init, contact_forces, model_dynamic, model_repulsive, model_noncohesive, &
+   public :: contact_t, contact_init, contact_forces, contact_memory_advance, contact_memory_get, &
+             contact_memory_set, model_dynamic, model_repulsive, model_noncohesive, &
              model_spring, model_hertz
 
    integer, parameter :: model_dynamic = 1, model_repulsive = 2, model_noncohesive = 3, model_spring = 4, &
@@ -30,6 +31,7 @@ module contact
       real(rp) :: q0 = 0.001_rp
       real(rp) :: qb = 0.0_rp         !< q at which the barrier of R doubles it (0: no barrier)
       real(rp) :: v_stick = 1.0e-3_rp
+      real(rp) :: xi_max = 0.0_rp     !< slip held by the static friction spring at mu f_n [m] (0: no spring)
       real(rp) :: k_imp = 0.0_rp      !< K of the approach term K u_L^2 / h (Eq. 2-6 models)
       real(rp) :: max_penetration = 0.0_rp  !< largest overlap of two surfaces in the last evaluation [m]
       real(rp) :: dt_limit = huge(1.0_rp)   !< stable step for the stiffest contact of the last evaluation [s]
@@ -46,7 +48,18 @@ module contact
       real(rp), allocatable :: pn(:, :), pw(:), pq(:)
       integer, allocatable :: kid(:, :)
       real(rp), allocatable :: kx(:, :), kw(:)
-      real(rp), allocatable :: kt(:, :)     !< Hertz: sum of sqrt(overlap) n n^T per pair of bodies (xx, xy, yy)
+      real(rp), allocatable :: kt(:, :)     !< Hertz: sum of sqrt(overlap) n n^T per pair of bodies (xx, xy, yy);
+                                            !< Eq. 2-6 models: weighted normal (1:2), from the higher id to the lower
+      integer, allocatable :: kmem(:)       !< slip memory of each contact of the sweep (0: none yet)
+      real(rp), allocatable :: kv(:, :)     !< Eq. 2-6 models: weighted velocity of the wall's particles (no body)
+      ! slip memory of the static friction (Eq. 2-6 models): per pair of
+      ! touching bodies (ids lo < hi), the tangential slip xi of body lo
+      ! against body hi at their contact centre, accumulated over the steps
+      ! the contact has lasted and held at |xi| <= xi_max; kept across steps
+      ! and in the checkpoint
+      integer :: nm = 0
+      integer, allocatable :: mid(:, :)
+      real(rp), allocatable :: mxi(:, :)
    end type contact_t
 
 contains
@@ -76,6 +89,7 @@ contains
       ! the barrier acts from half the touching q on: q_t = dp/(4h)
       ct%qb = cfg%barrier*0.125_rp*prm%dp/prm%h
       ct%v_stick = cfg%stick_velocity
+      ct%xi_max = cfg%stick_length*prm%dp
       ct%k_imp = cfg%impact
       if (ct%model == model_hertz) call tsuji_table(ct)
    end subroutine contact_init
@@ -245,7 +259,7 @@ contains
          f = -p%mass(i)*p%mass(j)*(p%p(i) + p%p(j))/(p%rho(i)*p%rho(j))*gw
          fn = norm2(f)
          call apply(i, j, bi, bj, f, .true.)
-         if (fn > 0.0_rp) call friction(i, j, bi, bj, f/fn, fn, vij)
+         if (fn > 0.0_rp) call friction(i, j, bi, bj, f/fn, fn, vij, [0.0_rp, 0.0_rp])
       end subroutine pair_dynamic
 
       !> Hertz contact of the particles as spheres of diameter dp (Canelas et
@@ -269,7 +283,7 @@ contains
          overlap = prm%dp - sqrt(r2)
          if (overlap <= 0.0_rp) return
          ct%max_penetration = max(ct%max_penetration, overlap)
-         k = key_of(p%body(i), p%body(j))
+         k = key_index(ct, p%body(i), p%body(j))
          n = d/sqrt(r2)
          w = sqrt(overlap)
          ct%kw(k) = ct%kw(k) + w
@@ -308,7 +322,7 @@ contains
             call viscous(i, j, bi, bj, gn, n)
             ct%dt_limit = min(ct%dt_limit, 0.2_rp*sqrt(mc/(1.5_rp*kn*ct%kw(k))))
             call apply(i, j, bi, bj, fn*n, .true.)
-            call friction(i, j, bi, bj, n, fn, vij)
+            call friction(i, j, bi, bj, n, fn, vij, [0.0_rp, 0.0_rp])
          end do
       end subroutine apply_hertz_pairs
 
@@ -345,9 +359,12 @@ contains
          if (q >= 1.0_rp) return
          rq = rhat(ct, q)                          ! R(psi)/A, bounded at contact
          ct%max_penetration = max(ct%max_penetration, prm%dp - psi_c)
-         k = key_of(p%body(i), p%body(j))
+         k = key_index(ct, p%body(i), p%body(j))
          ct%kx(:, k) = ct%kx(:, k) + rq*pw*0.5_rp*(p%x(:, i) + p%x(:, j))
          ct%kw(k) = ct%kw(k) + rq*pw
+         ct%kt(1:2, k) = ct%kt(1:2, k) + merge(rq*pw, -rq*pw, p%body(i) < p%body(j))*n
+         if (bi == 0) ct%kv(:, k) = ct%kv(:, k) + rq*pw*p%v(:, i)
+         if (bj == 0) ct%kv(:, k) = ct%kv(:, k) + rq*pw*p%v(:, j)
          call store_pair(i, j, bi, bj, n, rq*pw, q, k)
       end subroutine pair_eq
 
@@ -358,7 +375,7 @@ contains
       !> the particles themselves, so that rocking is damped.
       subroutine apply_eq_pairs()
          integer :: m, i, j, bi, bj
-         real(rp) :: xc(2), vrel(2), n(2), ul, a, fn, m_ij, rp_w, q, kstiff, aimp
+         real(rp) :: xc(2), vrel(2), n(2), ul, a, fn, m_ij, rp_w, q, kstiff, aimp, xi(2)
          do m = 1, ct%np
             i = ct%pij(1, m); j = ct%pij(2, m); bi = ct%pb(1, m); bj = ct%pb(2, m)
             n = ct%pn(:, m); rp_w = ct%pw(m); q = ct%pq(m)
@@ -389,7 +406,10 @@ contains
             ! resolve the approach: at most 0.05 dp of closing per step
             if (ul < 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.05_rp*prm%dp/abs(ul))
             call apply(i, j, bi, bj, fn*n, .true.)
-            if (fn > 0.0_rp) call friction(i, j, bi, bj, n, fn, vrel)
+            ! the slip memory of the contact, as the slip of particle i's body
+            xi = 0.0_rp
+            if (ct%kmem(ct%pkey(m)) > 0) xi = merge(1.0_rp, -1.0_rp, p%body(i) < p%body(j))*ct%mxi(:, ct%kmem(ct%pkey(m)))
+            if (fn > 0.0_rp) call friction(i, j, bi, bj, n, fn, vrel, xi)
          end do
       end subroutine apply_eq_pairs
 
@@ -405,29 +425,6 @@ contains
             v = p%v(:, own)
          end if
       end function velocity_at
-
-      !> Index of the pair of bodies (ids a, b) in the contact table.
-      integer function key_of(a, b) result(k)
-         integer, intent(in) :: a, b
-         integer :: lo, hi
-         lo = min(a, b); hi = max(a, b)
-         do k = 1, ct%nk
-            if (ct%kid(1, k) == lo .and. ct%kid(2, k) == hi) return
-         end do
-         if (.not. allocated(ct%kid)) allocate (ct%kid(2, 16), ct%kx(2, 16), ct%kw(16), ct%kt(3, 16))
-         if (ct%nk == size(ct%kw)) then
-            ct%kid = reshape([ct%kid, spread(0, 1, 2*ct%nk)], [2, 2*ct%nk])
-            ct%kx = reshape([ct%kx, spread(0.0_rp, 1, 2*ct%nk)], [2, 2*ct%nk])
-            ct%kt = reshape([ct%kt, spread(0.0_rp, 1, 3*ct%nk)], [3, 2*ct%nk])
-            ct%kw = [ct%kw, spread(0.0_rp, 1, ct%nk)]
-         end if
-         ct%nk = ct%nk + 1
-         k = ct%nk
-         ct%kid(:, k) = [lo, hi]
-         ct%kx(:, k) = 0.0_rp
-         ct%kt(:, k) = 0.0_rp
-         ct%kw(k) = 0.0_rp
-      end function key_of
 
       subroutine store_pair(i, j, bi, bj, n, w, q, k)
          integer, intent(in) :: i, j, bi, bj, k
@@ -453,19 +450,24 @@ contains
          ct%pq(ct%np) = q
       end subroutine store_pair
 
-      !> Regularised Coulomb friction: opposes the tangential slip, mu |f_n|
-      !> when sliding, proportional to the slip below v_stick.
-      subroutine friction(i, j, bi, bj, n, fn, vij)
+      !> Coulomb friction: mu |f_n| against the tangential slip when sliding.
+      !> Below it, a viscous term proportional to the slip speed (up to
+      !> v_stick) plus a spring on the slip memory xi (up to xi_max): the
+      !> spring holds a contact that carries a steady tangential load, where
+      !> the viscous term alone would let it creep at v_stick load/(mu f_n).
+      subroutine friction(i, j, bi, bj, n, fn, vij, xi)
          integer, intent(in) :: i, j, bi, bj
-         real(rp), intent(in) :: n(2), fn, vij(2)
-         real(rp) :: vt(2), s, mu
+         real(rp), intent(in) :: n(2), fn, vij(2), xi(2)
+         real(rp) :: vt(2), u(2), s, mu
          mu = friction_coef(bi, bj)
          if (mu <= 0.0_rp .or. fn <= 0.0_rp) return
          vt = vij - dot_product(vij, n)*n
-         s = norm2(vt)
-         if (s < ct%v_stick) call viscous(i, j, bi, bj, mu*fn/ct%v_stick, [-n(2), n(1)])
+         u = vt/ct%v_stick
+         if (ct%xi_max > 0.0_rp) u = u + (xi - dot_product(xi, n)*n)/ct%xi_max
+         s = norm2(u)
+         if (s < 1.0_rp) call viscous(i, j, bi, bj, mu*fn/ct%v_stick, [-n(2), n(1)])
          if (s <= 0.0_rp) return
-         call apply(i, j, bi, bj, -mu*fn*min(s/ct%v_stick, 1.0_rp)*vt/s, .false.)
+         call apply(i, j, bi, bj, -mu*fn*u/max(s, 1.0_rp), .false.)
       end subroutine friction
 
       !> Force f on particle i, -f on particle j, summed into their bodies.
@@ -572,31 +574,148 @@ contains
       end function tau_pair
    end subroutine contact_forces
 
+   !> Index of the pair of bodies (ids a, b) in the contact table of the
+   !> sweep, added with zero sums (and its slip memory, if it has one) when new.
+   integer function key_index(ct, a, b) result(k)
+      type(contact_t), intent(inout) :: ct
+      integer, intent(in) :: a, b
+      integer :: lo, hi, m
+      lo = min(a, b); hi = max(a, b)
+      do k = 1, ct%nk
+         if (ct%kid(1, k) == lo .and. ct%kid(2, k) == hi) return
+      end do
+      if (.not. allocated(ct%kid)) allocate (ct%kid(2, 16), ct%kx(2, 16), ct%kw(16), ct%kt(3, 16), ct%kmem(16), ct%kv(2, 16))
+      if (ct%nk == size(ct%kw)) then
+         ct%kid = reshape([ct%kid, spread(0, 1, 2*ct%nk)], [2, 2*ct%nk])
+         ct%kx = reshape([ct%kx, spread(0.0_rp, 1, 2*ct%nk)], [2, 2*ct%nk])
+         ct%kt = reshape([ct%kt, spread(0.0_rp, 1, 3*ct%nk)], [3, 2*ct%nk])
+         ct%kw = [ct%kw, spread(0.0_rp, 1, ct%nk)]
+         ct%kmem = [ct%kmem, spread(0, 1, ct%nk)]
+         ct%kv = reshape([ct%kv, spread(0.0_rp, 1, 2*ct%nk)], [2, 2*ct%nk])
+      end if
+      ct%nk = ct%nk + 1
+      k = ct%nk
+      ct%kid(:, k) = [lo, hi]
+      ct%kx(:, k) = 0.0_rp
+      ct%kt(:, k) = 0.0_rp
+      ct%kw(k) = 0.0_rp
+      ct%kv(:, k) = 0.0_rp
+      ct%kmem(k) = 0
+      do m = 1, ct%nm
+         if (ct%mid(1, m) == lo .and. ct%mid(2, m) == hi) then
+            ct%kmem(k) = m
+            exit
+         end if
+      end do
+   end function key_index
+
+   !> The slip memory after a step of length dt (Eq. 2-6 models with a
+   !> friction spring): for every contact of the last evaluation, the
+   !> tangential slip of its two bodies at the contact centre added, the part along the present normal dropped (the contact turned),
+   !> and the whole held at xi_max, where the spring alone gives mu f_n: a
+   !> contact that slides carries its memory at that length. Contacts that
+   !> ended are forgotten. Every rank holds every contact (merge_keys), so the
+   !> memory is the same on all of them.
+   subroutine contact_memory_advance(ct, bodies, dt)
+      type(contact_t), intent(inout) :: ct
+      type(body_t), intent(in) :: bodies(:)
+      real(rp), intent(in) :: dt
+      integer :: k, n
+      integer, allocatable :: ids(:, :)
+      real(rp), allocatable :: xis(:, :)
+      real(rp) :: xc(2), nn(2), vrel(2), xi(2), s
+      if (ct%xi_max <= 0.0_rp .or. ct%model == model_dynamic .or. ct%model == model_hertz) return
+      allocate (ids(2, ct%nk), xis(2, ct%nk))
+      n = 0
+      do k = 1, ct%nk
+         if (ct%kw(k) <= 0.0_rp) cycle
+         s = norm2(ct%kt(1:2, k))
+         if (s <= 0.0_rp) cycle
+         nn = ct%kt(1:2, k)/s
+         xc = ct%kx(:, k)/ct%kw(k)
+         vrel = velocity(ct%kid(1, k)) - velocity(ct%kid(2, k))
+         xi = 0.0_rp
+         if (ct%kmem(k) > 0) xi = ct%mxi(:, ct%kmem(k))
+         xi = xi - dot_product(xi, nn)*nn + (vrel - dot_product(vrel, nn)*nn)*dt
+         s = norm2(xi)
+         if (s > ct%xi_max) xi = xi*(ct%xi_max/s)
+         n = n + 1
+         ids(:, n) = ct%kid(:, k)
+         xis(:, n) = xi
+      end do
+      call contact_memory_set(ct, ids(:, 1:n), xis(:, 1:n))
+   contains
+      !> Velocity at the contact centre xc of the body with id; for a wall
+      !> (no body) the weighted mean velocity of its particles in the contact.
+      function velocity(id) result(v)
+         integer, intent(in) :: id
+         real(rp) :: v(2)
+         integer :: b
+         b = body_of(bodies, id)
+         if (b > 0) then
+            v = bodies(b)%v + bodies(b)%omega*[-(xc(2) - bodies(b)%c(2)), xc(1) - bodies(b)%c(1)]
+         else
+            v = ct%kv(:, k)/ct%kw(k)
+         end if
+      end function velocity
+   end subroutine contact_memory_advance
+
+   !> The slip memory as a table: per contact the two body ids and the slip
+   !> (for the checkpoint).
+   subroutine contact_memory_get(ct, tab)
+      type(contact_t), intent(in) :: ct
+      real(rp), allocatable, intent(out) :: tab(:, :)
+      integer :: m
+      allocate (tab(4, ct%nm))
+      do m = 1, ct%nm
+         tab(:, m) = [real(ct%mid(1, m), rp), real(ct%mid(2, m), rp), ct%mxi(:, m)]
+      end do
+   end subroutine contact_memory_get
+
+   !> Replace the slip memory by the contacts ids(:, m) (lo < hi) with slips xis(:, m).
+   subroutine contact_memory_set(ct, ids, xis)
+      type(contact_t), intent(inout) :: ct
+      integer, intent(in) :: ids(:, :)
+      real(rp), intent(in) :: xis(:, :)
+      ct%nm = size(ids, 2)
+      if (allocated(ct%mid)) deallocate (ct%mid, ct%mxi)
+      allocate (ct%mid(2, max(ct%nm, 1)), ct%mxi(2, max(ct%nm, 1)))
+      ct%mid(:, 1:ct%nm) = ids
+      ct%mxi(:, 1:ct%nm) = xis
+      ! the sweep's contacts point into the old table: they are rebuilt at the next evaluation
+      ct%nk = 0
+   end subroutine contact_memory_set
+
    !> The contact table (weighted centre and weight of each pair of touching
    !> bodies, and the Hertz normal tensor) summed over the ranks, in rank
    !> order, so that every rank that holds a pair of the contact sees the same
    !> centre, normal and stiffness.
    subroutine merge_keys(ct)
       type(contact_t), intent(inout) :: ct
-      integer, parameter :: nv = 8           ! per key: two ids, kx(2), kw, kt(3)
+      integer, parameter :: nv = 10          ! per key: two ids, kx(2), kw, kt(3), kv(2)
       real(rp), allocatable :: mine(:), all(:)
       integer :: k, m, o
       allocate (mine(nv*ct%nk))
       do k = 1, ct%nk
-         mine(nv*(k - 1) + 1:nv*k) = [real(ct%kid(1, k), rp), real(ct%kid(2, k), rp), ct%kx(:, k), ct%kw(k), ct%kt(:, k)]
+         mine(nv*(k - 1) + 1:nv*k) = [real(ct%kid(1, k), rp), real(ct%kid(2, k), rp), ct%kx(:, k), ct%kw(k), ct%kt(:, k), &
+                                       ct%kv(:, k)]
       end do
       call comm_allgatherv(mine, all)
+      ! the sums start over; a contact met only on other ranks is added, so
+      ! that every rank holds every contact (and the same slip memory)
       do k = 1, ct%nk
          ct%kx(:, k) = 0.0_rp
          ct%kw(k) = 0.0_rp
          ct%kt(:, k) = 0.0_rp
-         entries: do m = 1, size(all)/nv
-            o = nv*(m - 1)
-            if (nint(all(o + 1)) /= ct%kid(1, k) .or. nint(all(o + 2)) /= ct%kid(2, k)) cycle entries
-            ct%kx(:, k) = ct%kx(:, k) + all(o + 3:o + 4)
-            ct%kw(k) = ct%kw(k) + all(o + 5)
-            ct%kt(:, k) = ct%kt(:, k) + all(o + 6:o + 8)
-         end do entries
+         ct%kv(:, k) = 0.0_rp
+      end do
+      do m = 1, size(all)/nv
+         o = nv*(m - 1)
+         k = key_index(ct, nint(all(o + 1)), nint(all(o + 2)))
+         ct%kx(:, k) = ct%kx(:, k) + all(o + 3:o + 4)
+         ct%kw(k) = ct%kw(k) + all(o + 5)
+         ct%kt(:, k) = ct%kt(:, k) + all(o + 6:o + 8)
+         ct%kv(:, k) = ct%kv(:, k) + all(o + 9:o + 10)
       end do
    end subroutine merge_keys
 

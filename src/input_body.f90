@@ -46,6 +46,7 @@ module input_body
       real(rp) :: c0 = 0.0_rp                !< reference speed of Eq. 4-6 (0: from the static load, doc/contact.md) [m/s]
       real(rp) :: q0 = 0.001_rp              !< regularisation of 1/sqrt(q): bounds R at q = 0 [-]
       real(rp) :: stick_velocity = 1.0e-3_rp  !< slip speed below which friction is proportional [m/s]
+      real(rp) :: stick_length = 0.01_rp     !< slip at which the friction spring gives mu f_n, in dp [-]; 0: off
       real(rp) :: impact = 20.0_rp           !< K of the approach term K u_L^2 / h of eps (Eq. 2) [-]; 0: off
       real(rp) :: barrier = 1.0_rp           !< barrier of R before q = 0, in units of dp/(8h) [-]; 0: off
    end type contact_cfg
@@ -58,8 +59,8 @@ module input_body
    integer :: nvert, layers
    namelist /body/ shape, x, y, radius, width, height, angle, nvert, vx, vy, density, mass, motion, u, v, &
       omega, amplitude_x, amplitude_y, amplitude_angle, period, phase, mu, restitution, young, poisson, layers
-   real(rp) :: r_f, b, c0, q0, stick_velocity, impact, barrier
-   namelist /contact/ model, r_f, b, c0, q0, stick_velocity, impact, barrier
+   real(rp) :: r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier
+   namelist /contact/ model, r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier
 
 contains
 
@@ -207,7 +208,7 @@ contains
       type(contact_cfg) :: d
       if (group_count(file, 'contact') > 1) call input_error(file, 'contact', '', 'group appears more than once')
       model = d%model; r_f = d%r_f; b = d%b; c0 = d%c0; q0 = d%q0; stick_velocity = d%stick_velocity
-      impact = d%impact; barrier = d%barrier
+      impact = d%impact; barrier = d%barrier; stick_length = d%stick_length
       if (group_count(file, 'contact') == 1) then
          u_ = open_case(file)
          read (u_, nml=contact, iostat=ios, iomsg=msg)
@@ -215,7 +216,7 @@ contains
          if (read_failed(file, 'contact', ios, msg)) return
       end if
       c%model = model; c%r_f = r_f; c%b = b; c%c0 = c0; c%q0 = q0; c%stick_velocity = stick_velocity
-      c%impact = impact; c%barrier = barrier
+      c%impact = impact; c%barrier = barrier; c%stick_length = stick_length
       call check_choice(file, 'contact', 'model', c%model, [character(len=name_len) :: 'dynamic', 'repulsive', &
                                                            'noncohesive', 'noncohesive_spring', 'hertz'])
       call check_real(file, 'contact', 'r_f', c%r_f, 0.0_rp, 1.0e3_rp)
@@ -223,6 +224,7 @@ contains
       call check_real(file, 'contact', 'c0', c%c0, 0.0_rp, 1.0e4_rp)
       call check_real(file, 'contact', 'q0', c%q0, 1.0e-6_rp, 0.1_rp)
       call check_real(file, 'contact', 'stick_velocity', c%stick_velocity, 1.0e-7_rp, 1.0_rp)
+      call check_real(file, 'contact', 'stick_length', c%stick_length, 0.0_rp, 1.0_rp)
       call check_real(file, 'contact', 'impact', c%impact, 0.0_rp, 1.0e4_rp)
       call check_real(file, 'contact', 'barrier', c%barrier, 0.0_rp, 2.0_rp)
    end subroutine read_contact
@@ -231,7 +233,7 @@ contains
       integer, intent(in) :: u_
       type(contact_cfg), intent(in) :: c
       model = c%model; r_f = c%r_f; b = c%b; c0 = c%c0; q0 = c%q0; stick_velocity = c%stick_velocity
-      impact = c%impact; barrier = c%barrier
+      impact = c%impact; barrier = c%barrier; stick_length = c%stick_length
       write (u_, nml=contact)
    end subroutine write_contact
 end module input_body

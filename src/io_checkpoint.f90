@@ -20,11 +20,13 @@ module io_checkpoint
 
 contains
 
-   subroutine checkpoint_write(out_dir, p, st, bodies)
+   !> mem: the contacts' slip memory (contact_memory_get), the same on every rank.
+   subroutine checkpoint_write(out_dir, p, st, bodies, mem)
       character(len=*), intent(in) :: out_dir
       type(particles_t), intent(in) :: p
       type(state_t), intent(in) :: st
       type(body_t), intent(in) :: bodies(:)
+      real(rp), intent(in), optional :: mem(:, :)
       integer :: b
       real(rp), allocatable :: bs(:, :)
       integer(hid_t) :: f
@@ -72,19 +74,23 @@ contains
          end do
          call h5_write(f, 'bodies', bs)
       end if
+      if (present(mem)) then
+         if (size(mem, 2) > 0) call h5_write(f, 'contact_memory', mem)
+      end if
       call h5_close(f)
       if (comm_rank() == 0) call file_rename(path//'.tmp', path)
    end subroutine checkpoint_write
 
    !> The whole checkpoint, on every rank; counts and edges are the writer's
    !> particles per rank and slab edges (one rank, no edges, for a
-   !> checkpoint of a serial build).
-   subroutine checkpoint_read(out_dir, p, st, bodies, counts, edges)
+   !> checkpoint of a serial build); mem the contacts' slip memory (none: 0 columns).
+   subroutine checkpoint_read(out_dir, p, st, bodies, counts, edges, mem)
       character(len=*), intent(in) :: out_dir
       type(particles_t), intent(inout) :: p
       type(state_t), intent(inout) :: st
       type(body_t), intent(inout) :: bodies(:)
       integer, allocatable, intent(out) :: counts(:), edges(:)
+      real(rp), allocatable, intent(out) :: mem(:, :)
       integer(hid_t) :: f
       integer :: n, b, nr
       logical :: parts
@@ -141,6 +147,12 @@ contains
             bodies(b)%v = bs(4:5, b)
             bodies(b)%omega = bs(6, b)
          end do
+      end if
+      if (h5_exists(f, 'contact_memory')) then
+         allocate (mem(4, h5_length(f, 'contact_memory')))
+         call h5_read(f, 'contact_memory', mem)
+      else
+         allocate (mem(4, 0))
       end if
       call h5_close(f)
    end subroutine checkpoint_read

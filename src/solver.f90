@@ -16,7 +16,7 @@ module solver
                      integ_verlet, bnd_repulsive
    use scene, only: scene_build, scene_bodies
    use body_dynamics, only: body_t, bodies_place, bodies_energy, bodies_prescribe
-   use contact, only: contact_t, contact_init
+   use contact, only: contact_t, contact_init, contact_memory_advance, contact_memory_get, contact_memory_set
    use io_bodies, only: bodies_csv_open, bodies_csv_row, bodies_csv_close
    use grid, only: grid_t, grid_init, grid_sort, grid_first_column_end, grid_add_halo
    use decomp, only: decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, decomp_lo, &
@@ -83,6 +83,7 @@ contains
          call neighbours()
          call step_advance(prm, g, p, w, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt, dt_limit)
          if (st%dt > dt_limit) call refuse_fixed_step(dt_limit)
+         if (size(bodies) > 0) call contact_memory_advance(ct, bodies, st%dt)
          if (cfg%damping%on) call damping_apply(cfg%damping, p, st%dt)
          st%t = st%t + st%dt
          st%istep = st%istep + 1
@@ -105,7 +106,7 @@ contains
       ! the final state always gets a snapshot and a checkpoint
       call timer_start(t_output)
       if (.not. written) call write_outputs(.true., .true.)
-      call checkpoint_write(out, p, st, bodies)
+      call checkpoint(out)
       call timer_stop(t_output)
       call summary()
       call energy_close()
@@ -120,6 +121,7 @@ contains
    subroutine setup(c)
       type(case_cfg), intent(in) :: c
       integer, allocatable :: counts(:), edges(:)
+      real(rp), allocatable :: mem(:, :)
       cfg = c
       out = trim(c%run%out_dir)
       call timer_start(t_setup)
@@ -131,7 +133,7 @@ contains
       call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, wave_report)
       if (c%run%restart) then
          call scene_bodies(c, bodies)
-         call checkpoint_read(out, p, st, bodies, counts, edges)
+         call checkpoint_read(out, p, st, bodies, counts, edges, mem)
          call params_init(c, st%y_surface - st%h_swl, st%y_surface, prm)
          call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//out// &
                        '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
@@ -162,6 +164,7 @@ contains
       call forces_init(prm)
       if (size(bodies) > 0) then
          call contact_init(c%contact, prm, c%fluid%coef, ct)
+         if (c%run%restart) call contact_memory_set(ct, nint(mem(1:2, :)), mem(3:4, :))
          if (comm_rank() == 0) call bodies_csv_open(out, c%run%restart, st%t)
       end if
       call banner()
@@ -178,12 +181,24 @@ contains
       call timer_stop(t_setup)
    end subroutine setup
 
+   !> The checkpoint of the present state, with the contacts' slip memory.
+   subroutine checkpoint(dir)
+      character(len=*), intent(in) :: dir
+      real(rp), allocatable :: mem(:, :)
+      if (size(bodies) > 0) then
+         call contact_memory_get(ct, mem)
+         call checkpoint_write(dir, p, st, bodies, mem)
+      else
+         call checkpoint_write(dir, p, st, bodies)
+      end if
+   end subroutine checkpoint
+
    !> A checkpoint every checkpoint_every steps, when asked for.
    subroutine checkpoint_due()
       if (cfg%run%checkpoint_every <= 0) return
       if (mod(st%istep, cfg%run%checkpoint_every) /= 0) return
       call timer_start(t_output)
-      call checkpoint_write(out, p, st, bodies)
+      call checkpoint(out)
       call timer_stop(t_output)
    end subroutine checkpoint_due
 

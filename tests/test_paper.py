@@ -68,6 +68,32 @@ def test_tc1b_static_friction_holds(tmp_path: Path, mbsph: Path) -> None:
     assert slip <= 1e-3, f"the contact face slipped {1e3 * slip:.2f} mm along the slope"
 
 
+def test_static_friction_does_not_creep(tmp_path: Path, mbsph: Path) -> None:
+    """The TC1b block held by friction (mu = 0.5 > tan 20 deg) for 2 s: once the contact
+    has taken the load, the block must stand still (Coulomb: no slip below mu N). The
+    friction spring on the contact's slip memory allows an elastic slip of at most
+    `stick_length` dp (0.01 dp = 0.05 mm) in all; without it the regularised friction
+    lets the block creep at stick_velocity tan(a)/mu = 0.7 mm/s."""
+    text = (ROOT / "input" / "paper" / "tc1b_static_noncohesive_spring.nml").read_text()
+    text = text.replace("t_end = 0.5, dt_out = 0.05", "t_end = 2.0, dt_out = 0.1")
+    proc, out = run_case(text, tmp_path, binary=mbsph)
+    assert_ok(proc)
+    s = body(read_csv(out / "bodies.csv"), 1)
+    a = pc.TC1B_STATIC_ALPHA
+    tdir = np.array([math.cos(a), -math.sin(a)])
+    off = np.array([0.0, -0.5 * pc.TC1B_H])
+
+    def face(k: int) -> np.ndarray:
+        c, sn = math.cos(s["angle"][k]), math.sin(s["angle"][k])
+        return np.array([s["x"][k], s["y"][k]]) + np.array([c * off[0] - sn * off[1], sn * off[0] + c * off[1]])
+    k0 = int(np.argmin(abs(s["time"] - 0.5)))
+    assert abs(s["time"][-1] - 2.0) < 1e-3
+    slip = abs(float(np.dot(face(len(s["time"]) - 1) - face(k0), tdir)))
+    # 0.01 dp: the elastic slip the spring allows in all (stick_length); a creep at the
+    # regularised rate would be 1.1 mm = 0.2 dp over these 1.5 s
+    assert slip <= 0.01 * pc.DP, f"the contact face slipped {1e3 * slip:.4f} mm from 0.5 s to 2 s"
+
+
 def test_tc2_jump(tmp_path: Path, mbsph: Path) -> None:
     s = body(run_paper("tc2_jump", "noncohesive_spring", tmp_path, mbsph), 1)
     # landing: the first output time at which the disc touches the ground (centre at R)
