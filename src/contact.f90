@@ -80,13 +80,15 @@ contains
       b = cfg%b
       if (b <= 0.0_rp) b = coef
       ct%k10b2 = (10.0_rp/b)**2
-      ! default c0: the static term (10/B)^2 0.005 c0^2 / h equals 2 g, so that a
-      ! body resting on a face sits at touching distance (doc/contact.md)
+      ! default c0 = B sqrt(g h): the static term (10/B)^2 0.005 c0^2 / h equals
+      ! g/2, so that a body resting on a face carries its weight inside the
+      ! barrier of R, where the contact is stiff enough that a coarse cube does
+      ! not tip over on its own compliance (doc/contact.md)
       ct%c = cfg%c0
-      if (ct%c <= 0.0_rp) ct%c = sqrt(2.0_rp*max(prm%g, 1.0e-3_rp)*prm%h/(0.005_rp*ct%k10b2))
+      if (ct%c <= 0.0_rp) ct%c = sqrt(0.5_rp*max(prm%g, 1.0e-3_rp)*prm%h/(0.005_rp*ct%k10b2))
       ct%r_f = cfg%r_f
       ct%q0 = cfg%q0
-      ! the barrier acts from half the touching q on: q_t = dp/(4h)
+      ! q_b = barrier dp/(8h): with the default 2, the touching q_t = dp/(4h)
       ct%qb = cfg%barrier*0.125_rp*prm%dp/prm%h
       ct%v_stick = cfg%stick_velocity
       ct%xi_max = cfg%stick_length*prm%dp

@@ -48,7 +48,7 @@ module input_body
       real(rp) :: stick_velocity = 1.0e-3_rp  !< slip speed below which friction is proportional [m/s]
       real(rp) :: stick_length = 0.01_rp     !< slip at which the friction spring gives mu f_n, in dp [-]; 0: off
       real(rp) :: impact = 20.0_rp           !< K of the approach term K u_L^2 / h of eps (Eq. 2) [-]; 0: off
-      real(rp) :: barrier = 1.0_rp           !< barrier of R before q = 0, in units of dp/(8h) [-]; 0: off
+      real(rp) :: barrier = 2.0_rp           !< barrier of R: q_b in units of dp/(8h) (2: touching) [-]; 0: off
    end type contact_cfg
 
    type(body_cfg) :: dflt
