@@ -45,6 +45,9 @@ __all__ = [
 # not read from a scan of the original paper: they were taken from several
 # independent reproductions of its Table 2, which agree with each other to
 # within 0.01 in T.
+# Koshizuka and Oka's front-position figure shows these same points (two public
+# digitisations of it fall on them within 0.04 in T): it is not a second
+# experiment (doc/validation.md).
 _MM_T = (0.41, 0.84, 1.19, 1.43, 1.63, 1.83, 1.98, 2.20, 2.32, 2.51, 2.65, 2.83, 2.98, 3.11, 3.33)
 _MM_Z = (1.11, 1.22, 1.44, 1.67, 1.89, 2.11, 2.33, 2.56, 2.78, 3.00, 3.22, 3.44, 3.67, 3.89, 4.11)
 
