@@ -140,17 +140,23 @@ contains
    subroutine check_waves(c)
       type(case_cfg), intent(in) :: c
       real(rp) :: k, kd, hmax, stroke, thick, per, hh
-      integer :: i
+      integer :: i, ip
       character(len=*), parameter :: g = 'wavemaker'
       character(len=:), allocatable :: gi
       associate (wm => c%wavemaker, d => c%domain)
+         ! the paddle: the object that moves as the wavemaker, wherever the scene put it
+         ip = 0
+         do i = 1, size(c%objs)
+            if (c%objs(i)%motion == 'wavemaker') ip = i
+         end do
          if (wm%on) then
-            thick = c%objs(size(c%objs))%box(2) - c%objs(size(c%objs))%box(1)
+            if (ip == 0) call input_error(c%file, g, '', 'internal: the wavemaker paddle was not generated')
+            thick = c%objs(ip)%box(2) - c%objs(ip)%box(1)
             if (wm%x0 - thick - 0.5_rp*wm%max_stroke < d%xmin) call input_error(c%file, g, 'x0', &
                'the paddle (thickness '//real_str(thick)//' m) moving +-'//real_str(0.5_rp*wm%max_stroke)// &
                ' m (max_stroke/2) leaves the &domain: x0 must be >= '//real_str(d%xmin + thick + 0.5_rp*wm%max_stroke))
-            if (c%objs(size(c%objs))%box(4) > d%ymax) call input_error(c%file, g, 'top', 'the paddle reaches y = '// &
-               real_str(c%objs(size(c%objs))%box(4))//' m, above the &domain ymax = '//real_str(d%ymax)// &
+            if (c%objs(ip)%box(4) > d%ymax) call input_error(c%file, g, 'top', 'the paddle reaches y = '// &
+               real_str(c%objs(ip)%box(4))//' m, above the &domain ymax = '//real_str(d%ymax)// &
                ' m (top defaults to 1.5 depth above the bed)')
             if (wm%wave /= 'file') then
                if (wm%wave == 'regular') then
