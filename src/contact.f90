@@ -10,7 +10,7 @@ module contact
    use params, only: params_t
    use grid, only: grid_t
    use particles, only: particles_t
-   use body_dynamics, only: body_t, motion_floating, body_of, bodies_damping_reset, bodies_damping_add
+   use body_dynamics, only: body_t, motion_floating, motion_fixed, body_of, bodies_damping_reset, bodies_damping_add
    use input_body, only: contact_cfg
    use kernel, only: kernel_gradw
    use comm, only: comm_size, comm_allgatherv
@@ -35,7 +35,7 @@ module contact
       real(rp) :: k_imp = 0.0_rp      !< K of the approach term K u_L^2 / h (Eq. 2-6 models)
       real(rp) :: max_penetration = 0.0_rp  !< largest overlap of two surfaces in the last evaluation [m]
       real(rp) :: dt_limit = huge(1.0_rp)   !< stable step for the stiffest contact of the last evaluation [s]
-      real(rp) :: dt_motion = huge(1.0_rp)  !< step in which no point of a floating body moves more than cfl h [s]
+      real(rp) :: dt_motion = huge(1.0_rp)  !< step in which no point of a moving body moves more than cfl h [s]
       ! Hertz: restitution e(alpha) of the damped Hertz spring on a grid of the
       ! damping number alpha (tsuji_table), inverted by interpolation
       real(rp), allocatable :: tab_alpha(:), tab_e(:)
@@ -216,11 +216,12 @@ contains
             call apply_eq_pairs()
          end if
       end if
-      ! no point of a floating body moves more than cfl h in a step, as the
-      ! fluid's CFL keeps its particles: without water nothing else limits the
-      ! step, and two bodies could jump from out of reach into deep overlap
+      ! no point of a floating or prescribed body moves more than cfl h in a
+      ! step, as the fluid's CFL keeps its particles: without water nothing
+      ! else limits the step, and two bodies could jump from out of reach into
+      ! deep overlap (a prescribed body's velocity is that of its function)
       do k = 1, size(bodies)
-         if (bodies(k)%motion /= motion_floating) cycle
+         if (bodies(k)%motion == motion_fixed) cycle
          ct%dt_motion = min(ct%dt_motion, prm%cfl*prm%h/max(norm2(bodies(k)%v) + abs(bodies(k)%omega)* &
                                                              bodies(k)%rbound, tiny(1.0_rp)))
       end do

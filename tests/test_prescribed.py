@@ -87,3 +87,27 @@ def test_prescribed_pose_continues_after_restart(tmp_path: Path, mbsph: Path) ->
     d = read_csv(out / "bodies.csv")
     assert d["time"][-1] >= 0.3 * (1.0 - 1e-12)
     assert_follows(d, 31)
+
+
+def test_fast_prescribed_body_limits_the_step(tmp_path: Path, mbsph: Path) -> None:
+    """A prescribed box driven at 20 m/s, clear of the water: no point of it may move
+    more than cfl h in a step, as the fluid's CFL keeps its own particles (here the
+    fluid alone would allow a step twice as long: 0.2 h / c0 with c0 = 9.9 m/s)."""
+    u, cfl, dp = 20.0, 0.2, 0.02
+    h = math.sqrt(2.0) * dp
+    text = case("symplectic").replace("t_end = 0.3, dt_out = 0.1, energy_interval = 0.01",
+                                      "t_end = 0.012, dt_out = 0.006, energy_interval = 0.001")
+    text = text.replace(f"u = {U}, v = {V}, omega = {OMEGA},", f"u = {u}, v = 0.0, omega = 0.0,")
+    text = text.replace(f"amplitude_x = {AX}, amplitude_y = {AY}, amplitude_angle = {AA}, period = {PERIOD}, "
+                        f"phase = {PHASE}", "")
+    proc, out = run_case(text, tmp_path, binary=mbsph)
+    assert_ok(proc)
+    e = read_csv(out / "energy.csv")
+    dt = np.diff(e["time"]) / np.diff(e["step"])
+    limit = cfl * h / u
+    # 1e-9: rounding of the times written; the mean step between two rows is below the
+    # largest step taken, so the bar is on every step
+    assert len(dt) >= 5 and np.max(dt) <= limit * (1.0 + 1e-9), \
+        f"mean step {np.max(dt):.3e} s between energy rows, motion limit cfl h / u = {limit:.3e} s"
+    # and not far below it: the fluid does not limit this step
+    assert np.min(dt) >= 0.5 * limit, f"step {np.min(dt):.3e} s, far below the motion limit {limit:.3e} s"
