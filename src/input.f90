@@ -144,11 +144,7 @@ contains
       character(len=*), parameter :: g = 'wavemaker'
       character(len=:), allocatable :: gi
       associate (wm => c%wavemaker, d => c%domain)
-         ! the paddle: the object that moves as the wavemaker, wherever the scene put it
-         ip = 0
-         do i = 1, size(c%objs)
-            if (c%objs(i)%motion == 'wavemaker') ip = i
-         end do
+         ip = paddle_index(c%objs)
          if (wm%on) then
             if (ip == 0) call input_error(c%file, g, '', 'internal: the wavemaker paddle was not generated')
             thick = c%objs(ip)%box(2) - c%objs(ip)%box(1)
@@ -201,6 +197,17 @@ contains
          end if
       end associate
    end subroutine check_waves
+
+   !> The paddle: the object that moves as the wavemaker, wherever the scene
+   !> put it (0: none).
+   pure integer function paddle_index(objs) result(ip)
+      type(geom_object), intent(in) :: objs(:)
+      integer :: k
+      ip = 0
+      do k = 1, size(objs)
+         if (objs(k)%motion == 'wavemaker') ip = k
+      end do
+   end function paddle_index
 
    !> Bodies inside the domain, not overlapping a wall or another body
    !> (touching is allowed; fluid is carved around them).
