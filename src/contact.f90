@@ -582,11 +582,10 @@ contains
    integer function key_index(ct, a, b) result(k)
       type(contact_t), intent(inout) :: ct
       integer, intent(in) :: a, b
-      integer :: lo, hi, m
+      integer :: lo, hi
       lo = min(a, b); hi = max(a, b)
-      do k = 1, ct%nk
-         if (ct%kid(1, k) == lo .and. ct%kid(2, k) == hi) return
-      end do
+      k = slot_of(ct%kid, ct%nk, lo, hi)
+      if (k > 0) return
       if (.not. allocated(ct%kid)) allocate (ct%kid(2, 16), ct%kx(2, 16), ct%kw(16), ct%kt(3, 16), ct%kmem(16), ct%kv(2, 16))
       if (ct%nk == size(ct%kw)) then
          ct%kid = reshape([ct%kid, spread(0, 1, 2*ct%nk)], [2, 2*ct%nk])
@@ -603,14 +602,18 @@ contains
       ct%kt(:, k) = 0.0_rp
       ct%kw(k) = 0.0_rp
       ct%kv(:, k) = 0.0_rp
-      ct%kmem(k) = 0
-      do m = 1, ct%nm
-         if (ct%mid(1, m) == lo .and. ct%mid(2, m) == hi) then
-            ct%kmem(k) = m
-            exit
-         end if
-      end do
+      ct%kmem(k) = slot_of(ct%mid, ct%nm, lo, hi)
    end function key_index
+
+   !> Column of the pair (lo, hi) among the first n columns of ids, or 0.
+   pure integer function slot_of(ids, n, lo, hi) result(k)
+      integer, allocatable, intent(in) :: ids(:, :)
+      integer, intent(in) :: n, lo, hi
+      do k = 1, n
+         if (ids(1, k) == lo .and. ids(2, k) == hi) return
+      end do
+      k = 0
+   end function slot_of
 
    !> The slip memory after a step of length dt (Eq. 2-6 models with a
    !> friction spring): for every contact of the last evaluation, the

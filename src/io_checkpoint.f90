@@ -26,7 +26,7 @@ contains
       type(particles_t), intent(in) :: p
       type(state_t), intent(in) :: st
       type(body_t), intent(in) :: bodies(:)
-      real(rp), intent(in), optional :: mem(:, :)
+      real(rp), intent(in) :: mem(:, :)
       integer :: b
       real(rp), allocatable :: bs(:, :)
       integer(hid_t) :: f
@@ -74,9 +74,7 @@ contains
          end do
          call h5_write(f, 'bodies', bs)
       end if
-      if (present(mem)) then
-         if (size(mem, 2) > 0) call h5_write(f, 'contact_memory', mem)
-      end if
+      if (size(mem, 2) > 0) call h5_write(f, 'contact_memory', mem)
       call h5_close(f)
       if (comm_rank() == 0) call file_rename(path//'.tmp', path)
    end subroutine checkpoint_write

@@ -185,12 +185,9 @@ contains
    subroutine checkpoint(dir)
       character(len=*), intent(in) :: dir
       real(rp), allocatable :: mem(:, :)
-      if (size(bodies) > 0) then
-         call contact_memory_get(ct, mem)
-         call checkpoint_write(dir, p, st, bodies, mem)
-      else
-         call checkpoint_write(dir, p, st, bodies)
-      end if
+      ! without bodies the memory is empty and nothing of it is written
+      call contact_memory_get(ct, mem)
+      call checkpoint_write(dir, p, st, bodies, mem)
    end subroutine checkpoint
 
    !> A checkpoint every checkpoint_every steps, when asked for.
