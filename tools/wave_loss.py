@@ -1,10 +1,10 @@
 """Where a generated regular wave loses its height: a flume run with eleven gauges
-from 0.5 to 3 wavelengths (L) from the paddle, a quarter wavelength apart, and its
+from 0.5 to 3 wavelengths (L) from the paddle (--x-max for farther), a quarter wavelength apart, and its
 analysis (doc/waves.md, "Where the height goes").
 
     .venv/bin/python tools/wave_loss.py run NAME --kh 1.2 --n 15 [--steepness 0.03]
         [--viscosity laminar_sps | --alpha 0.005] [--paddle flap] [--second-order]
-        [--dt-out T_FRACTION] [--t-end S]
+        [--dt-out T_FRACTION] [--t-end S] [--x-max 4] [--dry-run]
     .venv/bin/python tools/wave_loss.py heights NAME     # per gauge, last three periods, and the fit below
     .venv/bin/python tools/wave_loss.py history NAME     # per gauge, two-period windows through the run
     .venv/bin/python tools/wave_loss.py drift NAME       # mean (Lagrangian) drift in front of the paddle
@@ -43,14 +43,18 @@ from post.waves import read_gauges, regular_wave_height  # noqa: E402
 DIR = ROOT / "OUT" / "waves_loss"
 DEPTH = 0.25
 G = 9.81
-GAUGES = tuple(0.5 + 0.25 * i for i in range(11))
+
+
+def gauge_positions(x_max: float) -> tuple[float, ...]:
+    """Gauges from 0.5 L to x_max L, a quarter wavelength apart (11 up to 3 L)."""
+    return tuple(0.5 + 0.25 * i for i in range(int(round((x_max - 0.5) / 0.25)) + 1))
 
 
 def cmd_run(a: argparse.Namespace) -> None:
     visc = (f"  viscosity = 'laminar_sps'" if a.viscosity == "laminar_sps"
             else f"  viscosity = 'artificial', alpha = {a.alpha}")
     f = flume_case(a.kh, depth=DEPTH, dp=DEPTH / a.n, steepness=a.steepness, paddle=a.paddle,
-                   out_dir=str(DIR / a.name), gauges_at=GAUGES, extra_numerics="  kernel_correction = 'gradient'",
+                   out_dir=str(DIR / a.name), gauges_at=gauge_positions(a.x_max), extra_numerics="  kernel_correction = 'gradient'",
                    case_name=a.name, second_order=a.second_order, t_end=a.t_end)
     text = f.text.replace("  viscosity = 'artificial', alpha = 0.01", visc)
     if a.dt_out:
@@ -257,6 +261,7 @@ def main() -> None:
     r.add_argument("--second-order", action="store_true")
     r.add_argument("--dt-out", type=float, default=0.0, help="snapshot interval in periods (default T/2)")
     r.add_argument("--t-end", type=float, default=None)
+    r.add_argument("--x-max", type=float, default=3.0, help="farthest gauge in wavelengths (default 3)")
     r.add_argument("--dry-run", action="store_true", help="write the case only")
     for c in ("heights", "history", "drift", "surface", "paddle"):
         sub.add_parser(c).add_argument("name")
