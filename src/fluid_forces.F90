@@ -36,7 +36,7 @@ module fluid_forces
 
    abstract interface
       subroutine pairs_iface(n, ncell, stride, cstart, x, v, rho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, &
-                             h, support2, eta2, fw, alpha, nu4, dcoef, rep, acc, drho, mumax)
+                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
          import :: rp, n_rep
          implicit none
          integer, intent(in) :: n, ncell, stride
@@ -44,7 +44,7 @@ module fluid_forces
          real(rp), intent(in) :: x(2, n), v(2, n), rho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
          real(rp), intent(in) :: nrm(2, n)
          integer, intent(in) :: kind(n), surf(n)
-         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, rep(n_rep)
+         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
          real(rp), intent(inout) :: acc(2, n), drho(n)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_iface
@@ -150,7 +150,7 @@ contains
       rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
       call pairs(n, g%ncell, g%stride, g%cstart, p%x, p%v, p%rho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
                  p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                 rep, w%acc, w%drho, w%mumax)
+                 prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
       ! gravity on the owned particles only: the pair sums of the halo
       ! copies are added to their owners afterwards (comm_halo_reverse)
       do i = 1, p%n_own

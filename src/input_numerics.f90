@@ -26,14 +26,16 @@ module input_numerics
       real(rp) :: delta = 0.1_rp                         !< density diffusion coefficient [-]
       character(len=name_len) :: kernel_correction = 'none'  !< 'none' | 'gradient' | 'shepard'
       integer :: shepard_every = 30                      !< Shepard density filter every N steps
+      logical :: kgc_continuity = .true.                 !< the gradient correction also in the continuity equation
       character(len=name_len) :: boundary = 'dynamic'    !< fluid on solids: 'dynamic' | 'repulsive'
    end type numerics_cfg
 
    real(rp) :: dp, h_over_dp, cfl, dt_fixed, alpha, nu, cs_sps, ci_sps, delta
    character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction, boundary
    integer :: verlet_every, shepard_every
+   logical :: kgc_continuity
    namelist /numerics/ dp, h_over_dp, kernel, cfl, dt_fixed, integrator, verlet_every, viscosity, alpha, &
-      nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every, boundary
+      nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every, kgc_continuity, boundary
 
 contains
 
@@ -43,7 +45,7 @@ contains
       integrator = c%integrator; verlet_every = c%verlet_every; viscosity = c%viscosity
       alpha = c%alpha; nu = c%nu; cs_sps = c%cs_sps; ci_sps = c%ci_sps
       diffusion = c%diffusion; delta = c%delta; kernel_correction = c%kernel_correction
-      shepard_every = c%shepard_every; boundary = c%boundary
+      shepard_every = c%shepard_every; boundary = c%boundary; kgc_continuity = c%kgc_continuity
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -52,7 +54,7 @@ contains
       c%integrator = integrator; c%verlet_every = verlet_every; c%viscosity = viscosity
       c%alpha = alpha; c%nu = nu; c%cs_sps = cs_sps; c%ci_sps = ci_sps
       c%diffusion = diffusion; c%delta = delta; c%kernel_correction = kernel_correction
-      c%shepard_every = shepard_every; c%boundary = boundary
+      c%shepard_every = shepard_every; c%boundary = boundary; c%kgc_continuity = kgc_continuity
    end subroutine from_vars
 
    subroutine read_numerics(file, c)
@@ -98,6 +100,8 @@ contains
       call check_choice(file, 'numerics', 'kernel_correction', c%kernel_correction, &
                         [character(len=name_len) :: 'none', 'gradient', 'shepard'])
       call check_int(file, 'numerics', 'shepard_every', c%shepard_every, 1, 100000)
+      if (.not. c%kgc_continuity .and. c%kernel_correction /= 'gradient') call input_error(file, 'numerics', &
+         'kgc_continuity', ".false. needs kernel_correction = 'gradient' (got '"//trim(c%kernel_correction)//"')")
       ! both corrections assume the full kernel support that a wall lacking
       ! pressure does not give (doc/theory.md)
       if (c%boundary == 'repulsive' .and. c%kernel_correction /= 'none') call input_error(file, 'numerics', &

@@ -32,6 +32,7 @@ module params
       integer :: diffusion = diff_none
       real(rp) :: delta_coef               !< delta h c0, the factor of the diffusion term
       integer :: kgc = kgc_none
+      real(rp) :: kgc_cont = 1.0_rp        !< 1: corrected gradient in the continuity equation, 0: plain
       integer :: shepard_every
       integer :: integrator = integ_symplectic
       integer :: verlet_every
@@ -102,6 +103,7 @@ contains
       case default; prm%kgc = kgc_none
       end select
       prm%shepard_every = c%numerics%shepard_every
+      prm%kgc_cont = merge(1.0_rp, 0.0_rp, c%numerics%kgc_continuity)
       select case (trim(c%numerics%integrator))
       case ('verlet'); prm%integrator = integ_verlet
       case ('predictor_corrector'); prm%integrator = integ_predictor_corrector

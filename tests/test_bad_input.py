@@ -93,6 +93,8 @@ CASES: dict[str, Bad] = {
     # h_over_dp: [1, 2]
     "h_over_dp_3": Bad(edit("dp = 0.02", "dp = 0.02, h_over_dp = 3.0"), "numerics", "h_over_dp",
                        range=(1.0, 2.0)),
+    "kgc_continuity_without_correction": Bad(edit("dp = 0.02", "dp = 0.02, kgc_continuity = .false."), "numerics",
+                                             "kgc_continuity", words=("gradient",)),
     "kernel_gauss": Bad(edit("kernel = 'wendland'", "kernel = 'gauss'"), "numerics", "kernel",
                         choices=("wendland", "cubic"), words=("gauss",)),
     "integrator_euler": Bad(edit("integrator = 'symplectic'", "integrator = 'euler'"), "numerics", "integrator",
