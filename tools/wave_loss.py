@@ -4,7 +4,7 @@ analysis (doc/waves.md, "Where the height goes").
 
     .venv/bin/python tools/wave_loss.py run NAME --kh 1.2 --n 15 [--steepness 0.03]
         [--viscosity laminar_sps | --alpha 0.005] [--paddle flap] [--second-order]
-        [--dt-out T_FRACTION] [--t-end S] [--x-max 4] [--dry-run]
+        [--dt-out T_FRACTION] [--t-end S] [--x-max 4] [--plain-continuity] [--dry-run]
     .venv/bin/python tools/wave_loss.py heights NAME     # per gauge, last three periods, and the fit below
     .venv/bin/python tools/wave_loss.py history NAME     # per gauge, two-period windows through the run
     .venv/bin/python tools/wave_loss.py drift NAME       # mean (Lagrangian) drift in front of the paddle
@@ -53,8 +53,9 @@ def gauge_positions(x_max: float) -> tuple[float, ...]:
 def cmd_run(a: argparse.Namespace) -> None:
     visc = (f"  viscosity = 'laminar_sps'" if a.viscosity == "laminar_sps"
             else f"  viscosity = 'artificial', alpha = {a.alpha}")
+    numerics = "  kernel_correction = 'gradient'" + ("\n  kgc_continuity = .false." if a.plain_continuity else "")
     f = flume_case(a.kh, depth=DEPTH, dp=DEPTH / a.n, steepness=a.steepness, paddle=a.paddle,
-                   out_dir=str(DIR / a.name), gauges_at=gauge_positions(a.x_max), extra_numerics="  kernel_correction = 'gradient'",
+                   out_dir=str(DIR / a.name), gauges_at=gauge_positions(a.x_max), extra_numerics=numerics,
                    case_name=a.name, second_order=a.second_order, t_end=a.t_end)
     text = f.text.replace("  viscosity = 'artificial', alpha = 0.01", visc)
     if a.dt_out:
@@ -262,6 +263,8 @@ def main() -> None:
     r.add_argument("--dt-out", type=float, default=0.0, help="snapshot interval in periods (default T/2)")
     r.add_argument("--t-end", type=float, default=None)
     r.add_argument("--x-max", type=float, default=3.0, help="farthest gauge in wavelengths (default 3)")
+    r.add_argument("--plain-continuity", action="store_true",
+                   help="kgc_continuity = .false.: the plain kernel gradient in the continuity equation")
     r.add_argument("--dry-run", action="store_true", help="write the case only")
     for c in ("heights", "history", "drift", "surface", "paddle"):
         sub.add_parser(c).add_argument("name")
