@@ -25,6 +25,7 @@ from .io import Snapshot
 __all__ = [
     "wendland_c2",
     "kernel_sum",
+    "mass_sum",
     "interpolate",
     "free_surface_height",
     "SURFACE_LEVEL",
@@ -103,6 +104,14 @@ def kernel_sum(snapshot: Snapshot, points: Sequence[float] | np.ndarray) -> np.n
     """Return the fluid kernel sum ``sum_j V_j W(x - x_j)`` at each point, shape ``(M,)``."""
     fluid = snapshot.fluid
     weights = snapshot.volume[fluid][:, None]
+    return _weighted_sums(_as_points(points), snapshot.position[fluid], weights, snapshot.h)[:, 0]
+
+
+def mass_sum(snapshot: Snapshot, points: Sequence[float] | np.ndarray) -> np.ndarray:
+    """Return ``sum_j m_j W(x - x_j)`` over the fluid at each point, shape ``(M,)``: the
+    density of the particles' packing, which the plain continuity equation carries."""
+    fluid = snapshot.fluid
+    weights = snapshot.mass[fluid][:, None]
     return _weighted_sums(_as_points(points), snapshot.position[fluid], weights, snapshot.h)[:, 0]
 
 

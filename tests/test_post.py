@@ -18,7 +18,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the package post/ at the repository root
 
 from post import dambreak, hydrostatic, plot_field, plot_series  # noqa: E402
-from post.interp import free_surface_height, interpolate, kernel_sum, wendland_c2  # noqa: E402
+from post.interp import free_surface_height, interpolate, kernel_sum, mass_sum, wendland_c2  # noqa: E402
 from post.io import (  # noqa: E402
     closest_snapshots,
     fluid_box,
@@ -240,6 +240,9 @@ def test_kernel_sum_matches_direct_sum_on_disordered_particles(tmp_path: Path) -
     direct = wendland_c2(r, snap.h) @ snap.volume[snap.fluid]
     np.testing.assert_allclose(kernel_sum(snap, pts), direct, rtol=1e-12, atol=1e-15)
     assert np.count_nonzero(direct == 0.0) > 50  # some points are out of reach of every particle
+    # the same sum with masses instead of volumes (the density of the packing)
+    direct_mass = wendland_c2(r, snap.h) @ snap.mass[snap.fluid]
+    np.testing.assert_allclose(mass_sum(snap, pts), direct_mass, rtol=1e-12, atol=1e-12)
 
 
 def test_kernel_sum_and_nan_outside_the_water(tank: Path) -> None:

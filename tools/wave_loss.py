@@ -116,7 +116,7 @@ def cmd_heights(a: argparse.Namespace) -> None:
     res, k, kap, c = best
     print(f"  fit: A at the paddle {100 * (2 * abs(c[0]) / H - 1):+.2f} %, decay {kap:.4f} /m "
           f"({100 * (1 - math.exp(-kap * L)):.2f} % per L), Kr {abs(c[1]) / abs(c[0]):.3f}, k/k_linear {k / k0:.4f}")
-    for xl in (2.0, 3.0, 4.0)[:2 + (max(m["gauges"]) - m["x0"] >= 3.99 * L)]:
+    for xl in (x for x in (2.0, 3.0, 4.0) if x * L <= xs.max() + 0.01 * L):
         print(f"  incident wave at {xl} L: {100 * (2 * abs(c[0]) * math.exp(-kap * xl * L) / H - 1):+.2f} %")
 
 
