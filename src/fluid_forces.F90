@@ -13,7 +13,7 @@ module fluid_forces
    use particles, only: particles_t
    use eos, only: eos_update, eos_density_at_depth
    use kernel, only: kernel_cubic
-   use kernel_correction, only: kgc_matrices
+   use kernel_correction, only: kgc_matrices, kgc_finish
    use comm_halo, only: comm_halo_forward, comm_halo_reverse
    implicit none
    private
@@ -141,8 +141,13 @@ contains
       else if (prm%diffusion /= diff_none) then
          w%rhod(1:n) = p%rho(1:n)
       end if
-      if (prm%kgc == kgc_gradient) call kgc_matrices(prm, g, p, w%lm)
-      if (prm%visc == visc_laminar_sps) call sps_stress(prm, g, p, w%tau)
+      if (prm%kgc == kgc_gradient .and. prm%visc == visc_laminar_sps) then
+         ! both need a sweep over the pairs before the forces: one shared sweep
+         call kgc_sps(prm, g, p, w%lm, w%tau)
+      else
+         if (prm%kgc == kgc_gradient) call kgc_matrices(prm, g, p, w%lm)
+         if (prm%visc == visc_laminar_sps) call sps_stress(prm, g, p, w%tau)
+      end if
       w%acc(:, 1:n) = 0.0_rp
       w%drho(1:n) = 0.0_rp
       w%mumax = 0.0_rp
@@ -167,7 +172,7 @@ contains
       real(rp), intent(out) :: tau(:, :)
       real(rp), allocatable :: gv(:, :)
       integer :: c, i, j, r, jlo(2), jhi(2)
-      real(rp) :: dx, dy, r2, q, fac, vi, vj, dvx, dvy, sxx, sxy, syy, s2, nut, sk, hinv
+      real(rp) :: dx, dy, r2, q, fac, vi, vj, dvx, dvy, hinv
       hinv = 1.0_rp/prm%h
       allocate (gv(4, p%n))          ! du/dx, du/dy, dv/dx, dv/dy
       gv = 0.0_rp
@@ -183,6 +188,47 @@ contains
 #include "sps_pairs.inc"
 #undef KFAC
       end if
+      call sps_finish(prm, p, gv, tau)
+   end subroutine sps_stress
+
+   !> The gradient correction matrices (kgc_matrices) and the SPS stress
+   !> (sps_stress) from one sweep over the pairs: it costs about as much as one
+   !> of the two sweeps it replaces.
+   subroutine kgc_sps(prm, g, p, lm, tau)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      real(rp), intent(out) :: lm(:, :), tau(:, :)
+      real(rp), allocatable :: gv(:, :)
+      integer :: c, i, j, r, jlo(2), jhi(2)
+      real(rp) :: dx, dy, r2, q, fac, vi, vj, dvx, dvy, hinv
+      hinv = 1.0_rp/prm%h
+      allocate (gv(4, p%n))
+      gv = 0.0_rp
+      lm(:, 1:p%n) = 0.0_rp
+      if (prm%kernel == kernel_cubic) then
+#define KFAC(q) KF_CUBIC(q)
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "kgc_sps_pairs.inc"
+#undef KFAC
+      else
+#define KFAC(q) KF_WENDLAND(q)
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "kgc_sps_pairs.inc"
+#undef KFAC
+      end if
+      call kgc_finish(p, lm)
+      call sps_finish(prm, p, gv, tau)
+   end subroutine kgc_sps
+
+   !> The SPS stress from the velocity gradients gv summed over the pairs.
+   subroutine sps_finish(prm, p, gv, tau)
+      type(params_t), intent(in) :: prm
+      type(particles_t), intent(in) :: p
+      real(rp), intent(inout) :: gv(:, :)
+      real(rp), intent(out) :: tau(:, :)
+      integer :: i
+      real(rp) :: sxx, sxy, syy, s2, nut, sk
       call comm_halo_reverse(gv, p%n_own)
       do i = 1, p%n
          sxx = gv(1, i)
@@ -197,7 +243,7 @@ contains
          if (p%kind(i) /= kind_fluid) tau(:, i) = 0.0_rp
       end do
       call comm_halo_forward(tau, p%n_own)
-   end subroutine sps_stress
+   end subroutine sps_finish
 
 #define PAIRS_NAME pairs_b1_k1_v1_d0_g0
 #define BC 1

@@ -11,7 +11,7 @@ module kernel_correction
    use comm_halo, only: comm_halo_forward, comm_halo_reverse
    implicit none
    private
-   public :: kgc_matrices, shepard_filter
+   public :: kgc_matrices, kgc_finish, shepard_filter
 
 contains
 
@@ -26,8 +26,7 @@ contains
       type(particles_t), intent(in) :: p
       real(rp), intent(out) :: lm(:, :)
       integer :: c, i, j, r, jlo(2), jhi(2)
-      real(rp) :: dx, dy, r2, q, fac, vi, vj, a11, a12, a22, det, hinv, wgt
-      real(rp), parameter :: det_full = 0.75_rp, det_none = 0.5_rp
+      real(rp) :: dx, dy, r2, q, fac, vi, vj, hinv
       hinv = 1.0_rp/prm%h
       lm(:, 1:p%n) = 0.0_rp
       ! B = sum_j V_j grad W_ij (x_j - x_i)^T = -sum_j V_j F r r^T (symmetric)
@@ -43,6 +42,18 @@ contains
 #include "kgc_pairs.inc"
 #undef KFAC
       end if
+      call kgc_finish(p, lm)
+   end subroutine kgc_matrices
+
+   !> From the moment matrices B summed over the pairs (kgc_matrices, or the
+   !> sweep shared with the SPS velocity gradients) to L_i = B^-1, blended to
+   !> the identity where B is near-singular.
+   subroutine kgc_finish(p, lm)
+      type(particles_t), intent(in) :: p
+      real(rp), intent(inout) :: lm(:, :)
+      integer :: i
+      real(rp) :: a11, a12, a22, det, wgt
+      real(rp), parameter :: det_full = 0.75_rp, det_none = 0.5_rp
       ! the moments of the halo copies belong to the next rank's particles
       call comm_halo_reverse(lm, p%n_own)
       do i = 1, p%n
@@ -60,7 +71,7 @@ contains
          end if
       end do
       call comm_halo_forward(lm, p%n_own)
-   end subroutine kgc_matrices
+   end subroutine kgc_finish
 
    !> Shepard filter: rho_i = sum_j m_j W_ij / sum_j V_j W_ij over fluid
    !> neighbours and itself, for fluid particles.

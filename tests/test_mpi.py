@@ -130,6 +130,8 @@ def test_dambreak_same_on_two_ranks(serial_dambreak: Path, tmp_path: Path, mbsph
 MODELS = {
     "gradient_correction": {"kernel_correction": "gradient"},
     "laminar_sps": {"viscosity": "laminar_sps", "nu": 1e-6},
+    # both: the correction matrices and the SPS velocity gradients from one shared sweep
+    "gradient_laminar_sps": {"kernel_correction": "gradient", "viscosity": "laminar_sps", "nu": 1e-6},
     "shepard": {"kernel_correction": "shepard", "shepard_every": 20},
     "verlet": {"integrator": "verlet"},
     "predictor_corrector": {"integrator": "predictor_corrector", "diffusion": "molteni"},
