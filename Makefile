@@ -66,11 +66,13 @@ unit-debug: build/debug/mbsph $(addprefix build/debug/tests/,$(UNIT))
 	@fail=0; for t in $(UNIT); do build/debug/tests/$$t || fail=1; done; exit $$fail
 
 # the whole suite: unit tests on the release and the debug build, then the
-# integration tests (cases, restart, bad input, output, ParaView)
+# integration tests (cases, restart, bad input, output, ParaView, wave heights) on
+# TEST_JOBS pytest workers (pytest-xdist; default: the number of cores)
+TEST_JOBS ?= $(shell nproc)
 test: deps
 	$(MAKE) -j2 build/mbsph build/debug/mbsph
 	$(MAKE) unit unit-debug
-	$(PYTHON) -m pytest -q tests
+	$(PYTHON) -m pytest -q -n $(TEST_JOBS) tests
 
 # mpirun as root (containers, CI) needs these flags; elsewhere they are harmless
 MPIRUN    ?= mpirun $(if $(filter 0,$(shell id -u)),--allow-run-as-root) --oversubscribe

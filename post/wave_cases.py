@@ -60,6 +60,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
     H = steepness * L
     n1 = 0.5 * (1.0 + 2.0 * kh / math.sinh(2.0 * kh))
     cg = n1 * L / T
+    # bed and end wall as thick as the kernel's reach (2h), so no water leaks through them
     layers = math.ceil(2.0 * 1.4142135623730951 - 1e-9)
     thick = layers * dp
     x0 = 0.11 + thick          # room for the paddle moving max_stroke/2 = 0.1 m back
@@ -85,7 +86,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
 {extra_run}
 /
 &domain
-  xmin = 0.0, xmax = {x_end + 0.01:.6f}, ymin = {-thick - 0.01:.6f}, ymax = {top + 0.05:.6f}
+  xmin = 0.0, xmax = {x_end + thick + 0.01:.6f}, ymin = {-thick - 0.01:.6f}, ymax = {top + 0.05:.6f}
 /
 &fluid
   rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = {G}
@@ -96,8 +97,8 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
   diffusion = 'fourtakas', delta = 0.1
 {extra_numerics}
 /
-&box role = 'solid', xmin = 0.0, xmax = {x_end + 0.01:.6f}, ymin = {-thick:.6f}, ymax = 0.0 /
-&box role = 'solid', xmin = {x_end:.6f}, xmax = {x_end + 0.01:.6f}, ymin = 0.0, ymax = {top:.6f} /
+&box role = 'solid', xmin = 0.0, xmax = {x_end + thick:.6f}, ymin = {-thick:.6f}, ymax = 0.0 /
+&box role = 'solid', xmin = {x_end:.6f}, xmax = {x_end + thick:.6f}, ymin = 0.0, ymax = {top:.6f} /
 &box role = 'fluid', xmin = {x0:.6f}, xmax = {x_end:.6f}, ymin = 0.0, ymax = {depth:.6f} /
 &wavemaker
   paddle = '{paddle}', wave = 'regular', x0 = {x0:.6f}, depth = {depth}

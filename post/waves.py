@@ -55,6 +55,8 @@ __all__ = [
     "Reflection",
     "reflection_two_gauge",
     "reflection_three_gauge",
+    "DecayingWave",
+    "decaying_wave_fit",
     "wavemaker_settings",
     "measured_height",
     "main",
@@ -401,7 +403,9 @@ class RegularWave:
     """Height and period of a regular wave over ``n_periods`` whole periods from ``t_start``.
 
     ``H`` is twice the first-harmonic amplitude fitted by least squares at the given
-    period; ``amplitudes[j-1]`` is the amplitude of harmonic ``j`` of that fit. For
+    period; ``amplitudes[j-1]`` is the amplitude of harmonic ``j`` of that fit and
+    ``H_crest_trough`` the crest-to-trough height of the fitted periodic wave (all its
+    harmonics), the height of a nonlinear wave as wave theory defines it. For
     comparison ``H_zero_crossing`` and ``T_zero_crossing`` are the zero-crossing means over
     the same window, and ``T_fit`` the period whose fit (same harmonics, same window)
     leaves the least squared residual, searched within 20 % of the given period.
@@ -409,6 +413,7 @@ class RegularWave:
 
     H: float
     amplitudes: np.ndarray
+    H_crest_trough: float
     H_zero_crossing: float
     T_zero_crossing: float
     T_fit: float
@@ -418,16 +423,40 @@ class RegularWave:
     t_end: float
 
 
-def _harmonic_fit(t: np.ndarray, y: np.ndarray, omega: float, harmonics: int) -> tuple[np.ndarray, float]:
-    """Least-squares amplitudes of harmonics 1..harmonics (plus a mean) of ``y(t)``, and the
-    sum of the squared residuals."""
+def _harmonic_coefficients(t: np.ndarray, y: np.ndarray, omega: float, harmonics: int) -> tuple[np.ndarray, float]:
+    """Least-squares coefficients (mean, then cos and sin of harmonics 1..harmonics) of
+    ``y(t)``, and the sum of the squared residuals."""
     cols = [np.ones_like(t)]
     for j in range(1, harmonics + 1):
         cols += [np.cos(j * omega * t), np.sin(j * omega * t)]
     A = np.column_stack(cols)
     coef, *_ = np.linalg.lstsq(A, y, rcond=None)
     resid = y - A @ coef
-    return np.hypot(coef[1::2], coef[2::2]), float(resid @ resid)
+    return coef, float(resid @ resid)
+
+
+def _harmonic_fit(t: np.ndarray, y: np.ndarray, omega: float, harmonics: int) -> tuple[np.ndarray, float]:
+    """Least-squares amplitudes of harmonics 1..harmonics (plus a mean) of ``y(t)``, and the
+    sum of the squared residuals."""
+    coef, res = _harmonic_coefficients(t, y, omega, harmonics)
+    return np.hypot(coef[1::2], coef[2::2]), res
+
+
+def _crest_trough(coef: np.ndarray) -> float:
+    """Crest-to-trough height of ``sum_j a_j cos j p + b_j sin j p`` (coefficients after the
+    mean), from 4096 phases over one period and parabolic refinement at both extremes."""
+    p = np.linspace(0.0, 2.0 * np.pi, 4096, endpoint=False)
+    y = np.zeros_like(p)
+    for j in range(len(coef) // 2):
+        y += coef[2 * j] * np.cos((j + 1) * p) + coef[2 * j + 1] * np.sin((j + 1) * p)
+
+    def peak(v: np.ndarray) -> float:
+        i = int(np.argmax(v))
+        a, b, c = v[i - 1], v[i], v[(i + 1) % len(v)]
+        den = a - 2.0 * b + c
+        return float(b - 0.125 * (a - c) ** 2 / den) if den < 0.0 else float(b)
+
+    return peak(y) + peak(-y)
 
 
 def regular_wave_height(t: np.ndarray, eta: np.ndarray, period: float, t_start: float | None = None,
@@ -458,7 +487,8 @@ def regular_wave_height(t: np.ndarray, eta: np.ndarray, period: float, t_start: 
     if len(ts) < 4 * harmonics + 2:
         raise ValueError(f"too few samples ({len(ts)}) in the window [{t0}, {t1}] s")
     omega = 2.0 * np.pi / period
-    amps, _ = _harmonic_fit(ts - t0, ys, omega, harmonics)
+    coef, _ = _harmonic_coefficients(ts - t0, ys, omega, harmonics)
+    amps = np.hypot(coef[1::2], coef[2::2])
     zc = zero_crossing(ts, ys)
 
     # the fit leaves the least residual at the true frequency: scan, then golden section
@@ -482,7 +512,8 @@ def regular_wave_height(t: np.ndarray, eta: np.ndarray, period: float, t_start: 
             a, c, fc = c, d, fd
             d = a + ratio * (b - a)
             fd = amp(d)
-    return RegularWave(H=2.0 * float(amps[0]), amplitudes=amps, H_zero_crossing=zc.H_mean,
+    return RegularWave(H=2.0 * float(amps[0]), amplitudes=amps, H_crest_trough=_crest_trough(coef[1:]),
+                       H_zero_crossing=zc.H_mean,
                        T_zero_crossing=zc.T_mean, T_fit=2.0 / (a + b), period=float(period),
                        n_periods=n, t_start=t0, t_end=t1)
 
@@ -647,6 +678,75 @@ def reflection_three_gauge(t: np.ndarray, eta1: np.ndarray, eta2: np.ndarray, et
 
     return _separate(t, [eta1, eta2, eta3], list(x), depth, conditioned, fmin, fmax, band, nseg, window,
                      frequency, g)
+
+
+@dataclass(frozen=True)
+class DecayingWave:
+    """A regular incident wave that decays along the flume and a reflected one, fitted to
+    the complex first-harmonic amplitudes ``a(x)`` of gauges at ``x`` (from the paddle):
+    ``a(x) = A exp(-(kappa + i k) x) + B exp(i k x)``. ``H0 = 2|A|`` is the incident height
+    at ``x = 0``, ``kappa`` the decay rate of its amplitude [1/m], ``k`` the fitted wave
+    number, ``Kr = |B|/|A|``; ``residual`` is the rms misfit over the gauges, as a
+    fraction of ``|A|``."""
+
+    H0: float
+    kappa: float
+    k: float
+    Kr: float
+    residual: float
+
+    def height(self, x: float | np.ndarray) -> float | np.ndarray:
+        """Height of the incident wave at ``x`` [m from the paddle]."""
+        return self.H0 * np.exp(-self.kappa * np.asarray(x, dtype=float))
+
+
+def _decaying_solve(x: np.ndarray, a: np.ndarray, k: float, kappa: float) -> tuple[np.ndarray, float]:
+    M = np.column_stack([np.exp(-(kappa + 1j * k) * x), np.exp(1j * k * x)])
+    c, *_ = np.linalg.lstsq(M, a, rcond=None)
+    r = M @ c - a
+    return c, float(np.real(np.vdot(r, r)))
+
+
+def decaying_wave_fit(t: np.ndarray, etas: Sequence[np.ndarray], xs: Sequence[float], period: float,
+                      k_guess: float, t_start: float | None = None, t_end: float | None = None) -> DecayingWave:
+    """Fit :class:`DecayingWave` to records ``etas`` at ``xs`` (every record on the times
+    ``t``). The first-harmonic amplitudes come from a least-squares fit (mean and three
+    harmonics) over the largest whole number of periods from ``t_start`` (default: the
+    first sample) that ends by ``t_end`` (default: the last sample). ``k`` is searched
+    within 10 % of ``k_guess`` and ``kappa`` over -0.05 to +0.15 /m, A and B by least
+    squares for each pair: a coarse grid, then two finer grids around its best point."""
+    t = np.asarray(t, dtype=float)
+    x = np.asarray(xs, dtype=float)
+    if len(x) < 4 or len(etas) != len(x):
+        raise ValueError(f"a decaying incident and a reflected wave need at least 4 gauges, not {len(x)}")
+    t0 = float(t[0]) if t_start is None else float(t_start)
+    t1 = float(t[-1]) if t_end is None else float(t_end)
+    n = int(math.floor((t1 - t0) / period + 1e-9))
+    if n < 1:
+        raise ValueError(f"the window [{t0}, {t1}] s holds no whole period of {period} s")
+    sel = (t >= t0 - 1e-9 * period) & (t < t0 + n * period - 1e-9 * period)
+    w = 2.0 * np.pi / period
+    tau = t[sel] - t0
+    cols = [np.ones_like(tau)]
+    for j in (1, 2, 3):
+        cols += [np.cos(j * w * tau), np.sin(j * w * tau)]
+    coef, *_ = np.linalg.lstsq(np.column_stack(cols), np.vstack([np.asarray(e, dtype=float)[sel] for e in etas]).T,
+                               rcond=None)
+    a = coef[1] - 1j * coef[2]
+    k_lo, k_hi, q_lo, q_hi = 0.9 * k_guess, 1.1 * k_guess, -0.05, 0.15
+    best = (math.inf, k_guess, 0.0)
+    for _ in range(3):
+        for k in np.linspace(k_lo, k_hi, 41):
+            for q in np.linspace(q_lo, q_hi, 41):
+                res = _decaying_solve(x, a, float(k), float(q))[1]
+                if res < best[0]:
+                    best = (res, float(k), float(q))
+        dk, dq = (k_hi - k_lo) / 20.0, (q_hi - q_lo) / 20.0
+        k_lo, k_hi, q_lo, q_hi = best[1] - dk, best[1] + dk, best[2] - dq, best[2] + dq
+    _, k, q = best
+    c, res = _decaying_solve(x, a, k, q)
+    return DecayingWave(H0=2.0 * abs(c[0]), kappa=q, k=k, Kr=abs(c[1]) / abs(c[0]),
+                        residual=math.sqrt(res / len(x)) / abs(c[0]))
 
 
 # --------------------------------------------------------------- case settings

@@ -40,6 +40,17 @@ SNAPSHOT_DATASETS = ("position", "velocity", "density", "pressure", "mass", "kin
                      "connectivity")
 
 
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line("markers", "long: a run of several minutes (the wave-height flumes); collected "
+                            "first, so that the workers of `pytest -n 2` share them and end together")
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    # long runs first (a stable sort keeps their order and that of the rest): pytest-xdist
+    # deals the first tests round-robin, one long run to each worker in turn
+    items.sort(key=lambda item: item.get_closest_marker("long") is None)
+
+
 def _binary_or_skip(path: Path, make_target: str) -> Path:
     if not (path.is_file() and os.access(path, os.X_OK)):
         pytest.skip(f"{path} is missing: build it first with `make {make_target}` "

@@ -2,9 +2,10 @@
 zone's reflection, the armour layer at rest, and the inputs that must be refused.
 
 The flumes are laid out by post/wave_cases.py in wavelengths of the target wave.
-Heights are measured by post/waves.py (least-squares first harmonic over whole
-periods in a window after the wave front has passed the gauge and before the
-reflection from the damping zone can return).
+Heights are measured by post/waves.py (least-squares harmonics over whole periods in a
+window after the wave front has passed the gauges; the incident wave separated from the
+reflected one by a fit over all gauges). The wave-height flumes take minutes each and
+are marked `long`: they run first, one per pytest-xdist worker (tests/conftest.py).
 """
 
 from __future__ import annotations
@@ -309,6 +310,72 @@ def test_damping_zone_reflection(tmp_path: Path, mbsph: Path) -> None:
     assert r.Kr < 0.10, f"Kr = {r.Kr:.3f}"
 
 
+
+
+# The wave-height tests: (kh, paddle, Madsen's second-order stroke, particles over the depth,
+# bar on the height). Every case: depth 0.25 m, H/L = 0.03, laminar viscosity + SPS, gradient
+# correction with the plain continuity equation (kgc_continuity = .false.), 15 gauges from
+# 0.5 to 4 L a quarter wavelength apart, a damping zone 1 L long after 4.25 L. The particles
+# over the depth are the fewest at which the case meets its bar by a margin (doc/waves.md,
+# "Measured: generated waves against linear theory"): kh 0.7 is long against the depth.
+HEIGHT_CASES = {
+    "piston_kh0.7": (0.7, "piston", True, 15, 0.05),
+    "piston_kh1.2": (1.2, "piston", False, 20, 0.05),
+    "piston_kh1.7": (1.7, "piston", False, 20, 0.05),
+    "flap_kh1.2": (1.2, "flap", False, 20, 0.07),
+}
+
+
+@pytest.mark.long
+@pytest.mark.parametrize("case", list(HEIGHT_CASES))
+def test_regular_wave_height_2_to_4_wavelengths(case: str, tmp_path: Path, mbsph: Path) -> None:
+    """The height the paddle makes, 2 to 4 wavelengths from it, against the target H of
+    linear wavemaker theory (Biesel), and the period against the paddle's.
+
+    H is the crest-to-trough height of the incident wave, which is what the target
+    means: the gauges' first-harmonic amplitudes over the last three periods (the wave
+    front, at the group speed, passed 4 L at least one period before) are fitted by an
+    incident wave that decays and a reflected one (post.waves.decaying_wave_fit); its
+    first-harmonic height at 2, 3 and 4 L times the gauges' mean ratio of the
+    crest-to-trough height (all harmonics of the fit) to the first-harmonic one. At
+    kh = 0.7 (Ursell number 22) the third harmonic alone makes the first-harmonic height
+    6 % lower than the crest-to-trough one, which is the wave of Stokes theory, not a
+    loss. Bars: 5 % (piston), 7 % (flap); the period within 2 % at every gauge from 2 L;
+    the fit within 5 % rms of the gauges."""
+    import math
+
+    import numpy as np
+    from post.wave_cases import flume_case
+    from post.waves import decaying_wave_fit, regular_wave_height
+    kh, paddle, second_order, n, bar = HEIGHT_CASES[case]
+    depth = 0.25
+    gauges_at = tuple(0.5 + 0.25 * i for i in range(15))
+    f = flume_case(kh, depth=depth, dp=depth / n, steepness=0.03, paddle=paddle, out_dir="OUT",
+                   gauges_at=gauges_at, damping_len=1.0, second_order=second_order,
+                   extra_numerics="  kernel_correction = 'gradient'\n  kgc_continuity = .false.")
+    text = f.text.replace("viscosity = 'artificial', alpha = 0.01", "viscosity = 'laminar_sps'")
+    assert "viscosity = 'laminar_sps'" in text
+    proc, out = run_case(text, tmp_path, binary=mbsph, name=CASE, timeout=3600.0)
+    assert_ok(proc)
+    d = read_gauges_csv(out)
+    t, T, H = d["time"], f.period, f.height
+    t0, t1 = f.t_end - 3.0 * T, f.t_end
+    etas = [d[f"eta_{j + 1}"] for j in range(len(gauges_at))]
+    waves = [regular_wave_height(t, eta, T, t_start=t0, t_end=t1) for eta in etas]
+    far = [w for a, w in zip(gauges_at, waves) if a >= 2.0]
+    for a, w in zip(gauges_at, waves):
+        if a >= 2.0:
+            assert abs(w.T_fit / T - 1.0) < 0.02, f"{case}: period {w.T_fit:.4f} s at {a} L, target {T:.4f} s"
+    fit = decaying_wave_fit(t, etas, [x - f.x0 for x in f.gauges], T, 2.0 * math.pi / f.length,
+                            t_start=t0, t_end=t1)
+    assert fit.residual < 0.05, f"{case}: the incident + reflected wave leaves {fit.residual:.1%} rms"
+    ratio = float(np.mean([w.H_crest_trough / w.H for w in far]))
+    errors = {a: fit.height(a * f.length) * ratio / H - 1.0 for a in (2.0, 3.0, 4.0)}
+    report = ", ".join(f"{a:.0f} L {e:+.2%}" for a, e in errors.items())
+    print(f"{case}: incident crest-to-trough height against the target: {report}; decay "
+          f"{fit.kappa:.4f} /m, Kr {fit.Kr:.3f}, crest-to-trough / first harmonic {ratio:.3f}")
+    for a, e in errors.items():
+        assert abs(e) < bar, f"{case}: height {e:+.2%} at {a} L (bar {bar:.0%}); {report}"
 
 
 def test_plain_continuity_keeps_the_water_volume(tmp_path: Path, mbsph: Path) -> None:

@@ -38,7 +38,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from post.wave_cases import flume_case  # noqa: E402
-from post.waves import read_gauges, regular_wave_height  # noqa: E402
+from post.waves import decaying_wave_fit, read_gauges, regular_wave_height  # noqa: E402
 
 DIR = ROOT / "OUT" / "waves_loss"
 DEPTH = 0.25
@@ -93,31 +93,27 @@ def cmd_heights(a: argparse.Namespace) -> None:
     t1 = t[-1]
     t0 = t1 - 3.0 * T
     xs = np.array(m["gauges"]) - x0
-    a1 = []
     print(f"{a.name}: kh {m['kh']}, {m.get('paddle', 'piston')}, T {T:.4f} s, L {L:.4f} m, H {H:.5f} m; "
           f"window {t0:.2f} to {t1:.2f} s")
-    print("  x/L   H error   T error   H2/H1")
+    print("  x/L   H error   T error   H2/H1   crest-to-trough H error")
+    ratios = []
     for j, x in enumerate(xs):
         y = d[f"eta_{j + 1}"]
         _, c1, c2 = harmonics(t, y, 2.0 * math.pi / T, t0, t0 + 3.0 * T)
         r = regular_wave_height(t, y, T, t_start=t0, t_end=t1)
-        a1.append(c1)
-        print(f"  {x / L:4.2f}  {100 * (r.H / H - 1):+6.2f} %  {100 * (r.T_fit / T - 1):+6.2f} %  {abs(c2) / abs(c1):5.3f}")
-    a1 = np.array(a1)
-    k0 = 2.0 * math.pi / L
-    best = None
-    for k in np.linspace(0.9 * k0, 1.1 * k0, 201):
-        for kap in np.linspace(-0.05, 0.15, 201):
-            M = np.column_stack([np.exp(-(kap + 1j * k) * xs), np.exp(1j * k * xs)])
-            c, *_ = np.linalg.lstsq(M, a1, rcond=None)
-            res = float(np.linalg.norm(M @ c - a1))
-            if best is None or res < best[0]:
-                best = (res, k, kap, c)
-    res, k, kap, c = best
-    print(f"  fit: A at the paddle {100 * (2 * abs(c[0]) / H - 1):+.2f} %, decay {kap:.4f} /m "
-          f"({100 * (1 - math.exp(-kap * L)):.2f} % per L), Kr {abs(c[1]) / abs(c[0]):.3f}, k/k_linear {k / k0:.4f}")
+        if x >= 2.0 * L - 1e-9:
+            ratios.append(r.H_crest_trough / r.H)
+        print(f"  {x / L:4.2f}  {100 * (r.H / H - 1):+6.2f} %  {100 * (r.T_fit / T - 1):+6.2f} %  {abs(c2) / abs(c1):5.3f}"
+              f"   {100 * (r.H_crest_trough / H - 1):+6.2f} %")
+    fit = decaying_wave_fit(t, [d[f"eta_{j + 1}"] for j in range(len(xs))], xs, T, 2.0 * math.pi / L,
+                            t_start=t0, t_end=t1)
+    print(f"  fit: A at the paddle {100 * (fit.H0 / H - 1):+.2f} %, decay {fit.kappa:.4f} /m "
+          f"({100 * (1 - math.exp(-fit.kappa * L)):.2f} % per L), Kr {fit.Kr:.3f}, "
+          f"k/k_linear {fit.k * L / (2.0 * math.pi):.4f}")
+    # crest to trough: the first harmonic times the mean ratio of the gauges from 2 L (as the tests)
     for xl in (x for x in (2.0, 3.0, 4.0) if x * L <= xs.max() + 0.01 * L):
-        print(f"  incident wave at {xl} L: {100 * (2 * abs(c[0]) * math.exp(-kap * xl * L) / H - 1):+.2f} %")
+        print(f"  incident wave at {xl} L: {100 * (fit.height(xl * L) / H - 1):+.2f} % (first harmonic), "
+              f"{100 * (fit.height(xl * L) * float(np.mean(ratios)) / H - 1):+.2f} % (crest to trough)")
 
 
 def cmd_history(a: argparse.Namespace) -> None:
