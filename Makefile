@@ -67,12 +67,14 @@ unit-debug: build/debug/mbsph $(addprefix build/debug/tests/,$(UNIT))
 
 # the whole suite: unit tests on the release and the debug build, then the
 # integration tests (cases, restart, bad input, output, ParaView, wave heights) on
-# TEST_JOBS pytest workers (pytest-xdist; default: the number of cores)
+# TEST_JOBS pytest workers (pytest-xdist; default: the number of cores). The long
+# wave-height runs come first (tests/conftest.py); --maxschedchunk=1 makes xdist deal
+# them out two per worker instead of giving one worker a block of them all.
 TEST_JOBS ?= $(shell nproc)
 test: deps
 	$(MAKE) -j2 build/mbsph build/debug/mbsph
 	$(MAKE) unit unit-debug
-	$(PYTHON) -m pytest -q -n $(TEST_JOBS) tests
+	$(PYTHON) -m pytest -q -n $(TEST_JOBS) --maxschedchunk=1 tests
 
 # mpirun as root (containers, CI) needs these flags; elsewhere they are harmless
 MPIRUN    ?= mpirun $(if $(filter 0,$(shell id -u)),--allow-run-as-root) --oversubscribe

@@ -46,8 +46,10 @@ def pytest_configure(config: pytest.Config) -> None:
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    # long runs first (a stable sort keeps their order and that of the rest): pytest-xdist
-    # deals the first tests round-robin, one long run to each worker in turn
+    # long runs first (a stable sort keeps their order and that of the rest): with
+    # --maxschedchunk=1 (Makefile) pytest-xdist gives each worker two tests to start
+    # with, the first two to one and the next two to the other; the order of the long
+    # tests in their module pairs them so that both workers get about as much
     items.sort(key=lambda item: item.get_closest_marker("long") is None)
 
 

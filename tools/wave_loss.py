@@ -15,8 +15,11 @@ analysis (doc/waves.md, "Where the height goes").
 A run writes OUT/waves_loss/NAME.nml and its output to OUT/waves_loss/NAME/ (one
 run at a time: `nice -n 10`). `heights` fits, to the complex first-harmonic
 amplitudes a(x) of all gauges, an incident wave that decays and a reflected one,
-a(x) = A exp(-(kappa + i k) x) + B exp(i k x), over a grid of k and kappa: A at the
-paddle (x = 0), the decay rate kappa and Kr = |B|/|A|. `theory` gives the spatial
+a(x) = A exp(-(kappa + i k) x) + B exp(i k x) (post.waves.decaying_wave_fit, as the
+wave-height tests): A at the paddle (x = 0), the decay rate kappa and Kr = |B|/|A|;
+the incident height at 2, 3 and 4 L is printed as a first harmonic and crest to trough
+(times the mean ratio of the crest-to-trough to the first-harmonic height of the
+gauges from 2 L). `theory` gives the spatial
 decay rate of a linear wave under a kinematic viscosity nu (the one that artificial
 viscosity alpha stands for, nu = alpha h c0 / 8): interior 2 nu k^2 / cg and the
 laminar bed boundary layer 2 k^2 sqrt(nu / 2 omega) / (2kd + sinh 2kd).
