@@ -32,7 +32,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test unit unit-debug pytest run dambreak breakwater lint bench bench-mpi bench-effects clean figures paper stability study
+.PHONY: all debug deps test wave-heights unit unit-debug pytest run dambreak breakwater lint bench bench-mpi bench-effects clean figures paper stability study
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -69,12 +69,17 @@ unit-debug: build/debug/mbsph $(addprefix build/debug/tests/,$(UNIT))
 # integration tests (cases, restart, bad input, output, ParaView, wave heights) on
 # TEST_JOBS pytest workers (pytest-xdist; default: the number of cores). The long
 # wave-height runs come first (tests/conftest.py); --maxschedchunk=1 makes xdist deal
-# them out two per worker instead of giving one worker a block of them all.
+# them out one per worker instead of giving one worker a block of them all. Tests
+# marked `validation` are left out (doc/waves.md: `make wave-heights`).
 TEST_JOBS ?= $(shell nproc)
 test: deps
 	$(MAKE) -j2 build/mbsph build/debug/mbsph
 	$(MAKE) unit unit-debug
-	$(PYTHON) -m pytest -q -n $(TEST_JOBS) --maxschedchunk=1 tests
+	$(PYTHON) -m pytest -q -n $(TEST_JOBS) --maxschedchunk=1 -m "not validation" tests
+
+# all four wave-height flumes, with the line each prints (doc/waves.md); about 20 minutes on 2 cores
+wave-heights: deps build/mbsph
+	$(PYTHON) -m pytest -q -rA -n $(TEST_JOBS) --maxschedchunk=1 tests/test_waves.py -k height_2_to_4
 
 # mpirun as root (containers, CI) needs these flags; elsewhere they are harmless
 MPIRUN    ?= mpirun $(if $(filter 0,$(shell id -u)),--allow-run-as-root) --oversubscribe

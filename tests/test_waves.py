@@ -317,19 +317,22 @@ def test_damping_zone_reflection(tmp_path: Path, mbsph: Path) -> None:
 # correction with the plain continuity equation (kgc_continuity = .false.), 15 gauges from
 # 0.5 to 4 L a quarter wavelength apart, a damping zone 1 L long after 4.25 L. The particles
 # over the depth are the fewest at which the case meets its bar by a margin (doc/waves.md,
-# "Measured: generated waves against linear theory"): kh 0.7 is long against the depth.
-# In this order `make test` gives the first two to one pytest worker and the last two to
-# the other (tests/conftest.py): 7.5e8 + 4.2e8 and 7.0e8 + 6.9e8 particle-steps.
+# "The wave-height tests"): kh 0.7 is long against the depth.
 HEIGHT_CASES = {
     "piston_kh0.7": (0.7, "piston", True, 15, 0.05),
-    "piston_kh1.7": (1.7, "piston", False, 20, 0.05),
-    "piston_kh1.2": (1.2, "piston", False, 20, 0.05),
     "flap_kh1.2": (1.2, "flap", False, 20, 0.07),
+    "piston_kh1.2": (1.2, "piston", False, 20, 0.05),
+    "piston_kh1.7": (1.7, "piston", False, 20, 0.05),
 }
+# Not in `make test` (marked `validation`, run by `make wave-heights`): at 20 particles over
+# the depth these two land within 1 to 3 % of their bar and move by up to 2.4 % when the far
+# end of the flume changes (doc/waves.md), so they do not hold the bar with a margin.
+VALIDATION_CASES = ("piston_kh1.2", "piston_kh1.7")
 
 
 @pytest.mark.long
-@pytest.mark.parametrize("case", list(HEIGHT_CASES))
+@pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.validation) if c in VALIDATION_CASES else c
+                                  for c in HEIGHT_CASES])
 def test_regular_wave_height_2_to_4_wavelengths(case: str, tmp_path: Path, mbsph: Path) -> None:
     """The height the paddle makes, 2 to 4 wavelengths from it, against the target H of
     linear wavemaker theory (Biesel), and the period against the paddle's.
