@@ -143,10 +143,11 @@ contains
       end if
       if (prm%kgc == kgc_gradient .and. prm%visc == visc_laminar_sps) then
          ! both need a sweep over the pairs before the forces: one shared sweep
-         call kgc_sps(prm, g, p, w%lm, w%tau)
-      else
-         if (prm%kgc == kgc_gradient) call kgc_matrices(prm, g, p, w%lm)
-         if (prm%visc == visc_laminar_sps) call sps_stress(prm, g, p, w%tau)
+         call sps_stress(prm, g, p, w%tau, w%lm)
+      else if (prm%kgc == kgc_gradient) then
+         call kgc_matrices(prm, g, p, w%lm)
+      else if (prm%visc == visc_laminar_sps) then
+         call sps_stress(prm, g, p, w%tau)
       end if
       w%acc(:, 1:n) = 0.0_rp
       w%drho(1:n) = 0.0_rp
@@ -165,70 +166,54 @@ contains
 
    !> Sub-particle-scale stress (Smagorinsky eddy viscosity with the Blin
    !> term, Dalrymple and Rogers 2006), stored as (tau/rho)/rho per fluid particle.
-   subroutine sps_stress(prm, g, p, tau)
+   !> With lm present, the gradient correction matrices (kgc_matrices) from the
+   !> same sweep over the pairs, at about the cost of one of the two sweeps.
+   subroutine sps_stress(prm, g, p, tau, lm)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(in) :: p
       real(rp), intent(out) :: tau(:, :)
+      real(rp), intent(out), optional :: lm(:, :)
       real(rp), allocatable :: gv(:, :)
       integer :: c, i, j, r, jlo(2), jhi(2)
-      real(rp) :: dx, dy, r2, q, fac, vi, vj, dvx, dvy, hinv
+      real(rp) :: dx, dy, r2, q, fac, vi, vj, dvx, dvy, sxx, sxy, syy, s2, nut, sk, hinv
       hinv = 1.0_rp/prm%h
       allocate (gv(4, p%n))          ! du/dx, du/dy, dv/dx, dv/dy
       gv = 0.0_rp
-      ! one copy of the sweep per kernel: no kernel test inside the pair loop
-      if (prm%kernel == kernel_cubic) then
+      ! one copy of the sweep per kernel and choice: no test inside the pair loop
+#define PRE_SPS 1
+      if (present(lm)) then
+         lm(:, 1:p%n) = 0.0_rp
+#define PRE_KGC 1
+         if (prm%kernel == kernel_cubic) then
 #define KFAC(q) KF_CUBIC(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "sps_pairs.inc"
+#include "pre_pairs.inc"
 #undef KFAC
-      else
+         else
 #define KFAC(q) KF_WENDLAND(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "sps_pairs.inc"
+#include "pre_pairs.inc"
 #undef KFAC
-      end if
-      call sps_finish(prm, p, gv, tau)
-   end subroutine sps_stress
-
-   !> The gradient correction matrices (kgc_matrices) and the SPS stress
-   !> (sps_stress) from one sweep over the pairs: it costs about as much as one
-   !> of the two sweeps it replaces.
-   subroutine kgc_sps(prm, g, p, lm, tau)
-      type(params_t), intent(in) :: prm
-      type(grid_t), intent(in) :: g
-      type(particles_t), intent(in) :: p
-      real(rp), intent(out) :: lm(:, :), tau(:, :)
-      real(rp), allocatable :: gv(:, :)
-      integer :: c, i, j, r, jlo(2), jhi(2)
-      real(rp) :: dx, dy, r2, q, fac, vi, vj, dvx, dvy, hinv
-      hinv = 1.0_rp/prm%h
-      allocate (gv(4, p%n))
-      gv = 0.0_rp
-      lm(:, 1:p%n) = 0.0_rp
-      if (prm%kernel == kernel_cubic) then
+         end if
+#undef PRE_KGC
+         call kgc_finish(p, lm)
+      else
+#define PRE_KGC 0
+         if (prm%kernel == kernel_cubic) then
 #define KFAC(q) KF_CUBIC(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "kgc_sps_pairs.inc"
+#include "pre_pairs.inc"
 #undef KFAC
-      else
+         else
 #define KFAC(q) KF_WENDLAND(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "kgc_sps_pairs.inc"
+#include "pre_pairs.inc"
 #undef KFAC
+         end if
+#undef PRE_KGC
       end if
-      call kgc_finish(p, lm)
-      call sps_finish(prm, p, gv, tau)
-   end subroutine kgc_sps
-
-   !> The SPS stress from the velocity gradients gv summed over the pairs.
-   subroutine sps_finish(prm, p, gv, tau)
-      type(params_t), intent(in) :: prm
-      type(particles_t), intent(in) :: p
-      real(rp), intent(inout) :: gv(:, :)
-      real(rp), intent(out) :: tau(:, :)
-      integer :: i
-      real(rp) :: sxx, sxy, syy, s2, nut, sk
+#undef PRE_SPS
       call comm_halo_reverse(gv, p%n_own)
       do i = 1, p%n
          sxx = gv(1, i)
@@ -243,7 +228,7 @@ contains
          if (p%kind(i) /= kind_fluid) tau(:, i) = 0.0_rp
       end do
       call comm_halo_forward(tau, p%n_own)
-   end subroutine sps_finish
+   end subroutine sps_stress
 
 #define PAIRS_NAME pairs_b1_k1_v1_d0_g0
 #define BC 1

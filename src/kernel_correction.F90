@@ -29,19 +29,22 @@ contains
       real(rp) :: dx, dy, r2, q, fac, vi, vj, hinv
       hinv = 1.0_rp/prm%h
       lm(:, 1:p%n) = 0.0_rp
-      ! B = sum_j V_j grad W_ij (x_j - x_i)^T = -sum_j V_j F r r^T (symmetric)
       ! one copy of the sweep per kernel: no kernel test inside the pair loop
+#define PRE_KGC 1
+#define PRE_SPS 0
       if (prm%kernel == kernel_cubic) then
 #define KFAC(q) KF_CUBIC(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "kgc_pairs.inc"
+#include "pre_pairs.inc"
 #undef KFAC
       else
 #define KFAC(q) KF_WENDLAND(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "kgc_pairs.inc"
+#include "pre_pairs.inc"
 #undef KFAC
       end if
+#undef PRE_KGC
+#undef PRE_SPS
       call kgc_finish(p, lm)
    end subroutine kgc_matrices
 
