@@ -423,6 +423,22 @@ class RegularWave:
     t_end: float
 
 
+def _whole_periods(t: np.ndarray, period: float, t_start: float | None,
+                   t_end: float | None) -> tuple[np.ndarray, float, float, int]:
+    """The samples of the largest whole number ``n`` of periods from ``t_start`` (default:
+    the first sample) that ends by ``t_end`` (default: the last sample), as a mask, with
+    the window's start, end and ``n``. The window is half open, [start, start + n period):
+    a sample at both ends would weigh that phase twice."""
+    t0 = float(t[0]) if t_start is None else float(t_start)
+    t1 = float(t[-1]) if t_end is None else float(t_end)
+    n = int(math.floor((t1 - t0) / period + 1e-9))
+    if n < 1:
+        raise ValueError(f"the window [{t0}, {t1}] s holds no whole period of {period} s")
+    t1 = t0 + n * period
+    tol = 1e-6 * float(np.median(np.diff(t)))
+    return (t >= t0 - tol) & (t < t1 - tol), t0, t1, n
+
+
 def _harmonic_coefficients(t: np.ndarray, y: np.ndarray, omega: float, harmonics: int) -> tuple[np.ndarray, float]:
     """Least-squares coefficients (mean, then cos and sin of harmonics 1..harmonics) of
     ``y(t)``, and the sum of the squared residuals."""
@@ -472,17 +488,7 @@ def regular_wave_height(t: np.ndarray, eta: np.ndarray, period: float, t_start: 
     """
     t = np.asarray(t, dtype=float)
     eta = np.asarray(eta, dtype=float)
-    t0 = float(t[0]) if t_start is None else float(t_start)
-    t1 = float(t[-1]) if t_end is None else float(t_end)
-    n = int(math.floor((t1 - t0) / period + 1e-9))
-    if n < 1:
-        raise ValueError(f"the window [{t0}, {t1}] s holds no whole period of {period} s")
-    t1 = t0 + n * period
-    dt = float(np.median(np.diff(t)))
-    sel = (t >= t0 - 1e-9 * dt) & (t <= t1 + 1e-9 * dt)
-    # a sample at both ends would weigh that phase twice
-    if np.count_nonzero(sel) > 1 and abs(t[sel][-1] - t[sel][0] - n * period) < 0.5 * dt:
-        sel[np.nonzero(sel)[0][-1]] = False
+    sel, t0, t1, n = _whole_periods(t, period, t_start, t_end)
     ts, ys = t[sel], eta[sel]
     if len(ts) < 4 * harmonics + 2:
         raise ValueError(f"too few samples ({len(ts)}) in the window [{t0}, {t1}] s")
@@ -719,12 +725,7 @@ def decaying_wave_fit(t: np.ndarray, etas: Sequence[np.ndarray], xs: Sequence[fl
     x = np.asarray(xs, dtype=float)
     if len(x) < 4 or len(etas) != len(x):
         raise ValueError(f"a decaying incident and a reflected wave need at least 4 gauges, not {len(x)}")
-    t0 = float(t[0]) if t_start is None else float(t_start)
-    t1 = float(t[-1]) if t_end is None else float(t_end)
-    n = int(math.floor((t1 - t0) / period + 1e-9))
-    if n < 1:
-        raise ValueError(f"the window [{t0}, {t1}] s holds no whole period of {period} s")
-    sel = (t >= t0 - 1e-9 * period) & (t < t0 + n * period - 1e-9 * period)
+    sel, t0, _, _ = _whole_periods(t, period, t_start, t_end)
     w = 2.0 * np.pi / period
     tau = t[sel] - t0
     cols = [np.ones_like(tau)]
