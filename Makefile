@@ -32,7 +32,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test wave-heights unit unit-debug pytest run dambreak breakwater lint bench bench-mpi bench-effects clean figures paper stability study
+.PHONY: all debug deps test wave-heights unit unit-debug run dambreak breakwater lint bench bench-mpi bench-effects clean figures paper stability study
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -69,13 +69,12 @@ unit-debug: build/debug/mbsph $(addprefix build/debug/tests/,$(UNIT))
 # integration tests (cases, restart, bad input, output, ParaView, wave heights) on
 # TEST_JOBS pytest workers (pytest-xdist; default: the number of cores). The long
 # wave-height runs come first (tests/conftest.py); --maxschedchunk=1 makes xdist deal
-# them out one per worker instead of giving one worker a block of them all. Tests
-# marked `validation` are left out (doc/waves.md: `make wave-heights`).
+# them out one per worker instead of giving one worker a block of them all.
 TEST_JOBS ?= $(shell nproc)
 test: deps
 	$(MAKE) -j2 build/mbsph build/debug/mbsph
 	$(MAKE) unit unit-debug
-	$(PYTHON) -m pytest -q -n $(TEST_JOBS) --maxschedchunk=1 -m "not validation" tests
+	$(PYTHON) -m pytest -q -n $(TEST_JOBS) --maxschedchunk=1 tests
 
 # all four wave-height flumes, with the line each prints (doc/waves.md); about 20 minutes on 2 cores
 wave-heights: deps build/mbsph

@@ -50,10 +50,12 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
                paddle: str = "piston", out_dir: str = "OUT/waves", gauges_at=(2.0, 2.25, 2.5, 2.75, 3.0),
                damping_len: float = 1.5, periods_after: float = 4.0, extra_run: str = "",
                extra_numerics: str = "", case_name: str = "waves", second_order: bool = False,
-               ramp_periods: float = 2.0, t_end: float | None = None) -> Flume:
+               ramp_periods: float = 2.0, t_end: float | None = None, h_over_dp: float | None = None) -> Flume:
     """A regular-wave flume: the paddle, then gauges at the given multiples of the
     wavelength L, then a damping zone damping_len L long. The run lasts until the
-    wave front (group speed) has passed the last gauge and periods_after more periods."""
+    wave front (group speed) has passed the last gauge and periods_after more periods.
+    ``h_over_dp`` is written to ``&numerics`` when given (else the solver's default,
+    sqrt 2); the bed and end wall are as thick as its kernel's reach."""
     T = period_for_kh(kh, depth)
     k = kh / depth
     L = 2.0 * math.pi / k
@@ -61,7 +63,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
     n1 = 0.5 * (1.0 + 2.0 * kh / math.sinh(2.0 * kh))
     cg = n1 * L / T
     # bed and end wall as thick as the kernel's reach (2h), so no water leaks through them
-    layers = math.ceil(2.0 * 1.4142135623730951 - 1e-9)
+    layers = math.ceil(2.0 * (math.sqrt(2.0) if h_over_dp is None else h_over_dp) - 1e-9)
     thick = layers * dp
     x0 = 0.11 + thick          # room for the paddle moving max_stroke/2 = 0.1 m back
     x_end = x0 + (max(gauges_at) + 0.25 + damping_len) * L
@@ -92,7 +94,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
   rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = {G}
 /
 &numerics
-  dp = {dp}
+  dp = {dp}{"" if h_over_dp is None else f"{chr(10)}  h_over_dp = {h_over_dp}"}
   viscosity = 'artificial', alpha = 0.01
   diffusion = 'fourtakas', delta = 0.1
 {extra_numerics}
@@ -118,10 +120,13 @@ def main() -> None:
     ap.add_argument("--steepness", type=float, default=0.03)
     ap.add_argument("--dp", type=float, default=0.0125)
     ap.add_argument("--paddle", choices=("piston", "flap"), default="piston")
+    ap.add_argument("--h-over-dp", type=float, default=None,
+                    help="smoothing length / dp (default: the solver's, sqrt 2; 1.6 for wave propagation, doc/waves.md)")
     ap.add_argument("--out-dir", default="OUT/waves")
     ap.add_argument("--out", type=Path, required=True, help="case file to write")
     a = ap.parse_args()
-    f = flume_case(a.kh, depth=a.depth, steepness=a.steepness, dp=a.dp, paddle=a.paddle, out_dir=a.out_dir)
+    f = flume_case(a.kh, depth=a.depth, steepness=a.steepness, dp=a.dp, paddle=a.paddle, out_dir=a.out_dir,
+                   h_over_dp=a.h_over_dp)
     a.out.parent.mkdir(parents=True, exist_ok=True)
     a.out.write_text(f.text)
     print(f"{a.out}: T = {f.period:.4f} s, L = {f.length:.4f} m, H = {f.height:.4f} m, t_end = {f.t_end:.2f} s")

@@ -43,8 +43,6 @@ SNAPSHOT_DATASETS = ("position", "velocity", "density", "pressure", "mass", "kin
 def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line("markers", "long: a run of several minutes (the wave-height flumes); collected "
                             "first, so that the workers of `pytest -n 2` share them and end together")
-    config.addinivalue_line("markers", "validation: a measurement that does not yet hold its bar with a margin; "
-                            "left out of `make test`, run by its own make target")
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:

@@ -59,14 +59,15 @@ def cmd_run(a: argparse.Namespace) -> None:
     numerics = "  kernel_correction = 'gradient'" + ("\n  kgc_continuity = .false." if a.plain_continuity else "")
     f = flume_case(a.kh, depth=DEPTH, dp=DEPTH / a.n, steepness=a.steepness, paddle=a.paddle,
                    out_dir=str(DIR / a.name), gauges_at=gauge_positions(a.x_max), extra_numerics=numerics,
-                   case_name=a.name, second_order=a.second_order, t_end=a.t_end)
+                   case_name=a.name, second_order=a.second_order, t_end=a.t_end, h_over_dp=a.h_over_dp,
+                   damping_len=a.damping_len)
     text = f.text.replace("  viscosity = 'artificial', alpha = 0.01", visc)
     if a.dt_out:
         text = text.replace(f"dt_out = {max(f.period / 2.0, 0.1):.6f}", f"dt_out = {a.dt_out * f.period:.6f}")
     DIR.mkdir(parents=True, exist_ok=True)
     (DIR / f"{a.name}.nml").write_text(text)
     meta = dict(T=f.period, L=f.length, H=f.height, x0=f.x0, gauges=f.gauges, t_end=f.t_end, kh=a.kh,
-                depth=DEPTH, paddle=a.paddle, dp=DEPTH / a.n)
+                depth=DEPTH, paddle=a.paddle, dp=DEPTH / a.n, h_over_dp=a.h_over_dp)
     (DIR / f"{a.name}.json").write_text(json.dumps(meta))
     if not a.dry_run:
         subprocess.run(["nice", "-n", "10", str(ROOT / "build" / "mbsph"), str(DIR / f"{a.name}.nml")], check=True)
@@ -259,6 +260,8 @@ def main() -> None:
     r.add_argument("--viscosity", choices=("artificial", "laminar_sps"), default="artificial")
     r.add_argument("--alpha", type=float, default=0.005)
     r.add_argument("--second-order", action="store_true")
+    r.add_argument("--damping-len", type=float, default=1.5, help="damping zone length in wavelengths (default 1.5)")
+    r.add_argument("--h-over-dp", type=float, default=None, help="smoothing length / dp (default: the solver's)")
     r.add_argument("--dt-out", type=float, default=0.0, help="snapshot interval in periods (default T/2)")
     r.add_argument("--t-end", type=float, default=None)
     r.add_argument("--x-max", type=float, default=3.0, help="farthest gauge in wavelengths (default 3)")
