@@ -76,7 +76,7 @@ test: deps
 	$(MAKE) unit unit-debug
 	$(PYTHON) -m pytest -q -n $(TEST_JOBS) --maxschedchunk=1 tests
 
-# all four wave-height flumes, with the line each prints (doc/waves.md); about 20 minutes on 2 cores
+# all four wave-height flumes, with the line each prints (doc/waves.md); 1.7e9 particle-steps, most of the time of make test
 wave-heights: deps build/mbsph
 	$(PYTHON) -m pytest -q -rA -n $(TEST_JOBS) --maxschedchunk=1 tests/test_waves.py -k height_2_to_4
 
