@@ -222,6 +222,10 @@ def _wave_height(out: Path, nml, H: float | None, gauge: int | None, irregular_h
             sel &= time >= t_start
         if t_end is not None:
             sel &= time <= t_end
+        if not sel.any():
+            raise ValueError(f"{Path(out) / 'gauges.csv'}: gauge {gauge} has no sample in the window "
+                             f"[{t_start}, {t_end}] s; the record covers {time[0]:g} to {time[-1]:g} s: "
+                             f"choose --t-start and --t-end inside it")
         value, how = waves.measured_height(time[sel], eta[sel], regular=wm.get("regular"), period=wm.get("T"),
                                            irregular_height=irregular_height)
         return value, f"{how} at gauge {gauge}"
@@ -441,8 +445,12 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     results = []
     for run in args.runs:
-        r = analyse(run, H=args.H, gauge=args.gauge, irregular_height=args.hs, t_start=args.t_start,
-                    t_end=args.t_end)
+        try:
+            r = analyse(run, H=args.H, gauge=args.gauge, irregular_height=args.hs, t_start=args.t_start,
+                        t_end=args.t_end)
+        except ValueError as err:
+            print(f"post.armour: error: {err}", file=sys.stderr)
+            return 2
         results.append(r)
         figdir = run if args.out is None else (args.out if len(args.runs) == 1 else args.out / r.run)
         print(f"{r.run}: {r.units} units, dn {r.layer.dn:g} m, Delta {r.delta:.3f}, H {r.H:.4f} m ({r.H_source}), "

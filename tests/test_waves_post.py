@@ -399,3 +399,15 @@ def test_armour_height_from_gauge_and_table(tmp_path: Path, capsys) -> None:
     assert armour.laboratory_verdict(ns).startswith("below start of damage")
     assert armour.laboratory_verdict(4.0).startswith("beyond failure")
     assert armour.laboratory_verdict(2.95) == "start of damage (lab Nod = 0)"
+
+
+def test_armour_gauge_window_outside_the_record(tmp_path: Path, capsys) -> None:
+    """A gauge window after the end of the run (say --t-start 5 on a run of 2 s) is a
+    clear error naming the file, the window and the record's span, exit code 2."""
+    run = tmp_path / "short"
+    write_armour_run(run, wavemaker_h=None)
+    t = np.arange(0.0, 2.0, 0.02)
+    write_gauges(run / "gauges.csv", t, [0.05 * np.cos(2 * math.pi * t / 1.5)], (2.0,))
+    assert armour.main([str(run), "--gauge", "1", "--t-start", "5"]) == 2
+    err = capsys.readouterr().err
+    assert "gauges.csv" in err and "[5.0, None]" in err and "0 to 1.98 s" in err and "--t-start" in err
