@@ -100,9 +100,11 @@ dambreak: deps build/mbsph
 # in still water (1 s), continued under waves by a restart; armour figures and the
 # table against the laboratory ranges (doc/breakwater.md); cost measured there.
 # BW_T0: start of the window in which the wave height is measured at gauge 3 (Ns);
-# for a short trial (BW_END below 5 s) lower it too, e.g. BW_END=3 BW_T0=1.5.
+# BW_DOC: where the figures (BW_DOC/img) and the table go. A short trial lowers BW_END
+# and BW_T0 and writes elsewhere than doc/: BW_END=3 BW_T0=1.5 BW_DOC=OUT/breakwater_trial.
 BW_END ?= 12.0
 BW_T0  ?= 5
+BW_DOC ?= doc
 breakwater: deps build/mbsph
 	@for pl in regular irregular; do \
 	  echo "== settling: $$pl"; \
@@ -111,10 +113,10 @@ breakwater: deps build/mbsph
 	    input/breakwater/$$pl.nml > OUT/breakwater_$$pl/waves.nml; \
 	  echo "== waves: $$pl (restart of the settled layer until t = $(BW_END) s)"; \
 	  $(MPIRUN) -np $(RANKS) build/mbsph OUT/breakwater_$$pl/waves.nml > /dev/null || exit 1; \
-	  $(PYTHON) -m post.armour OUT/breakwater_$$pl --gauge 3 --t-start $(BW_T0) --out doc/img/breakwater_$$pl || exit 1; \
+	  $(PYTHON) -m post.armour OUT/breakwater_$$pl --gauge 3 --t-start $(BW_T0) --out $(BW_DOC)/img/breakwater_$$pl || exit 1; \
 	done
 	$(PYTHON) -m post.armour OUT/breakwater_regular OUT/breakwater_irregular --gauge 3 --t-start $(BW_T0) \
-	  --table doc/breakwater_table.md --out doc/img
+	  --table $(BW_DOC)/breakwater_table.md --out $(BW_DOC)/img
 
 lint: deps
 	bash tools/lint.sh
