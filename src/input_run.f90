@@ -2,7 +2,7 @@
 module input_run
    use kinds, only: rp
    use constants, only: name_len, path_len, msg_len
-   use input_check, only: open_case, read_failed, check_real, check_int, group_count
+   use input_check, only: open_case, read_failed, check_real, check_int, group_count, int_str
    use errors, only: input_error
    implicit none
    private
@@ -70,6 +70,7 @@ contains
       call from_vars(c)
       if (len_trim(c%case_name) == 0) call input_error(file, 'run', 'case_name', 'must not be empty')
       if (len_trim(c%out_dir) == 0) call input_error(file, 'run', 'out_dir', 'must not be empty')
+      call check_path(file, c%out_dir)
       call check_real(file, 'run', 't_end', c%t_end, 0.0_rp, 1.0e6_rp, lo_open=.true.)
       call check_real(file, 'run', 'dt_out', c%dt_out, 0.0_rp, huge(1.0_rp), lo_open=.true.)
       call check_int(file, 'run', 'checkpoint_every', c%checkpoint_every, 0, huge(1))
@@ -80,6 +81,21 @@ contains
       call check_int(file, 'run', 'balance_every', c%balance_every, 0, huge(1))
       call check_real(file, 'run', 'gauge_interval', c%gauge_interval, 0.0_rp, huge(1.0_rp), lo_open=.true.)
    end subroutine read_run
+
+   !> out_dir names a folder and nothing else: a case file received from someone else
+   !> must not be able to smuggle quotes, shell metacharacters or control characters
+   !> into a path (the folder is made with mkdir(2), never through a shell).
+   subroutine check_path(file, d)
+      character(len=*), intent(in) :: file, d
+      character(len=*), parameter :: allowed = 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789' &
+                                              //'._-/+,=@~'
+      integer :: k
+      k = verify(trim(d), allowed)
+      if (k > 0) call input_error(file, 'run', 'out_dir', "character '"//d(k:k)//"' at position "// &
+         int_str(k)//" is not allowed; use letters, digits and . _ - / + , = @ ~")
+      if (len_trim(d) > path_len - 64) call input_error(file, 'run', 'out_dir', 'longer than '// &
+         int_str(path_len - 64)//' characters')
+   end subroutine check_path
 
    subroutine write_run(u, c)
       integer, intent(in) :: u

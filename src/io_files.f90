@@ -5,8 +5,18 @@ module io_files
    use constants, only: path_len, msg_len
    use errors, only: input_error, fatal
    use input_check, only: int_str
+   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
    implicit none
    private
+
+   interface
+      !> POSIX mkdir(2); mode_t is an unsigned 32-bit integer on Linux
+      integer(c_int) function c_mkdir(path, mode) bind(C, name='mkdir')
+         import :: c_int, c_char
+         character(kind=c_char), dimension(*), intent(in) :: path
+         integer(c_int), value, intent(in) :: mode
+      end function c_mkdir
+   end interface
    public :: outdir_prepare, file_exists, file_text, snap_name, energy_open, energy_row, energy_close, csv_rows_until
 
    integer :: energy_unit = 0
@@ -45,7 +55,7 @@ contains
       character(len=*), intent(in) :: case_file, out_dir
       logical, intent(in) :: overwrite, restart
       character(len=path_len) :: d
-      integer :: k, stat
+      integer :: k
       logical :: held(4), ok
       d = out_dir
       if (restart) then
@@ -71,11 +81,23 @@ contains
          call delete_file(trim(d)//'/case.nml')
          call delete_file(trim(d)//'/run.log')
       end if
-      call execute_command_line('mkdir -p "'//trim(d)//'"', exitstat=stat)
+      call make_dirs(trim(d))
       ok = dir_writable(d)
-      if (stat /= 0 .or. .not. ok) call input_error(case_file, 'run', 'out_dir', &
+      if (.not. ok) call input_error(case_file, 'run', 'out_dir', &
          "cannot create or write the folder '"//trim(d)//"'")
    end subroutine outdir_prepare
+
+   !> mkdir -p without a shell: mkdir(2) on every prefix of the path that ends at a
+   !> '/', then on the whole path. Failures (the folder exists, no permission) are
+   !> judged afterwards by dir_writable, which names the folder.
+   subroutine make_dirs(d)
+      character(len=*), intent(in) :: d
+      integer :: k, rc
+      do k = 2, len(d)
+         if (d(k:k) == '/') rc = c_mkdir(d(1:k - 1)//c_null_char, int(o'755', c_int))
+      end do
+      rc = c_mkdir(d//c_null_char, int(o'755', c_int))
+   end subroutine make_dirs
 
    logical function dir_writable(d)
       character(len=*), intent(in) :: d

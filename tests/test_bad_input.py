@@ -253,3 +253,36 @@ def test_folder_holding_a_run_is_replaced_with_overwrite(tmp_path: Path, mbsph: 
     new = sorted(p.name for p in out.glob("snap_*.h5"))
     assert new == ["snap_00000.h5", "snap_00001.h5"], f"snapshots after the overwrite: {new} (before: {sorted(old)})"
     assert "OVERWRITE=T" in (out / "case.nml").read_text().upper().replace(" ", "")
+
+
+# ------------------------------------------------------------ out_dir is a path, never a command
+
+
+@pytest.mark.parametrize("out_dir", ['OUT/x"; touch PWNED; echo "', "OUT/$(touch PWNED)", "OUT/`touch PWNED`",
+                                     "OUT/x; touch PWNED"])
+def test_out_dir_cannot_run_a_command(out_dir: str, tmp_path: Path, mbsph: Path) -> None:
+    # a case file received from someone else must not execute anything: the folder is made
+    # with mkdir(2), and a name with quotes or shell characters is refused at read time
+    text = edit("out_dir = 'OUT'", f"out_dir = '{out_dir}'")
+    proc, _ = run_case(text, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    assert f"{CASE}: &run: out_dir: " in msg and "not allowed" in msg, msg
+    assert not list(tmp_path.rglob("PWNED")), "the case file ran a shell command"
+    assert sorted(p.name for p in tmp_path.iterdir()) == [CASE], "bad input created files or folders"
+
+
+def test_nested_out_dir_is_created(tmp_path: Path, mbsph: Path) -> None:
+    proc, _ = run_case(edit("out_dir = 'OUT'", "out_dir = 'OUT/a/b-c/d_e.1'"), tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    assert (tmp_path / "OUT" / "a" / "b-c" / "d_e.1" / "snap_00000.h5").is_file()
+
+
+def test_out_dir_too_long_is_refused(tmp_path: Path, mbsph: Path) -> None:
+    # a name longer than the solver holds would be cut silently and the run would write elsewhere
+    long = "OUT/" + "d" * 600
+    proc, _ = run_case(edit("out_dir = 'OUT'", f"out_dir = '{long}'"), tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    assert f"{CASE}: &run: out_dir: " in msg and "longer than" in msg, msg
+    assert not (tmp_path / "OUT").exists()
