@@ -8,7 +8,7 @@ module contact
    use kinds, only: rp
    use constants, only: pi, kind_fluid, kind_floating
    use params, only: params_t
-   use grid, only: grid_t
+   use grid, only: grid_t, grid_ranges
    use particles, only: particles_t
    use body_dynamics, only: body_t, motion_floating, motion_fixed, body_of, bodies_damping_reset, bodies_damping_add
    use input_body, only: contact_cfg
@@ -191,8 +191,7 @@ contains
       do i = 1, p%n_own
          if (.not. ct%cand(i)) cycle
          c = g%icell(i)
-         jlo = [i + 1, g%cstart(c + g%stride - 1)]
-         jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%stride + 2) - 1]
+         call grid_ranges(g, c, i, jlo, jhi)
          bi = body_of(bodies, p%body(i))
          do r = 1, 2
             partners: do j = jlo(r), jhi(r)

@@ -11,8 +11,8 @@ module fluid_forces
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive
    use grid, only: grid_t
    use particles, only: particles_t
-   use eos, only: eos_update, eos_density_at_depth
-   use kernel, only: kernel_cubic
+   use eos, only: eos_update, eos_dynamic_density
+   use nbr_list, only: nbr_t, nbr_build
    use kernel_correction, only: kgc_matrices, kgc_finish
    use comm_halo, only: comm_halo_forward, comm_halo_reverse
    implicit none
@@ -28,23 +28,27 @@ module fluid_forces
       real(rp), allocatable :: acc(:, :)   !< acceleration [m/s2]
       real(rp), allocatable :: drho(:)     !< density rate [kg/m3/s]
       real(rp), allocatable :: cs(:)       !< sound speed [m/s]
+      real(rp), allocatable :: irho(:)     !< 1/density [m3/kg]
+      real(rp), allocatable :: vol(:)      !< volume mass/density [m3]
       real(rp), allocatable :: rhod(:)     !< density used by the diffusion term
       real(rp), allocatable :: lm(:, :)    !< gradient correction matrices
       real(rp), allocatable :: tau(:, :)   !< SPS stress / rho^2
       real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]
+      type(nbr_t) :: nb                    !< the pairs of the evaluation
    end type forces_work_t
 
    abstract interface
-      subroutine pairs_iface(n, ncell, stride, cstart, x, v, rho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, &
-                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
+      subroutine pairs_iface(n, first, pj, pf, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, &
+                             h, eta2, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
          import :: rp, n_rep
          implicit none
-         integer, intent(in) :: n, ncell, stride
-         integer, intent(in) :: cstart(:)
-         real(rp), intent(in) :: x(2, n), v(2, n), rho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
+         integer, intent(in) :: n
+         integer, intent(in) :: first(:), pj(:)
+         real(rp), intent(in) :: pf(:)
+         real(rp), intent(in) :: x(2, n), v(2, n), rho(n), irho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
          real(rp), intent(in) :: nrm(2, n)
          integer, intent(in) :: kind(n), surf(n)
-         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
+         real(rp), intent(in) :: h, eta2, alpha, nu4, dcoef, ckgc, rep(n_rep)
          real(rp), intent(inout) :: acc(2, n), drho(n)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_iface
@@ -54,43 +58,30 @@ module fluid_forces
 
 contains
 
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "kernel_formulas.inc"
-
    !> Choose the pair loop for this run's models.
    subroutine forces_init(prm)
       type(params_t), intent(in) :: prm
       integer :: code
       ! the repulsive boundary runs without density diffusion and gradient
       ! correction (the input refuses them; doc/theory.md says why)
-      code = merge(1, 0, prm%kernel == kernel_cubic) + 2*merge(1, 0, prm%visc == visc_laminar_sps)
+      code = merge(1, 0, prm%visc == visc_laminar_sps)
       if (prm%boundary == bnd_repulsive) then
-         code = code + 16
+         code = code + 8
       else
-         code = code + 4*merge(1, 0, prm%diffusion /= diff_none) + 8*merge(1, 0, prm%kgc == kgc_gradient)
+         code = code + 2*merge(1, 0, prm%diffusion /= diff_none) + 4*merge(1, 0, prm%kgc == kgc_gradient)
       end if
       select case (code)
-      case (0); pairs => pairs_b1_k1_v1_d0_g0
-      case (1); pairs => pairs_b1_k2_v1_d0_g0
-      case (2); pairs => pairs_b1_k1_v2_d0_g0
-      case (3); pairs => pairs_b1_k2_v2_d0_g0
-      case (4); pairs => pairs_b1_k1_v1_d1_g0
-      case (5); pairs => pairs_b1_k2_v1_d1_g0
-      case (6); pairs => pairs_b1_k1_v2_d1_g0
-      case (7); pairs => pairs_b1_k2_v2_d1_g0
-      case (8); pairs => pairs_b1_k1_v1_d0_g1
-      case (9); pairs => pairs_b1_k2_v1_d0_g1
-      case (10); pairs => pairs_b1_k1_v2_d0_g1
-      case (11); pairs => pairs_b1_k2_v2_d0_g1
-      case (12); pairs => pairs_b1_k1_v1_d1_g1
-      case (13); pairs => pairs_b1_k2_v1_d1_g1
-      case (14); pairs => pairs_b1_k1_v2_d1_g1
-      case (15); pairs => pairs_b1_k2_v2_d1_g1
-      case (16); pairs => pairs_b2_k1_v1_d0_g0
-      case (17); pairs => pairs_b2_k2_v1_d0_g0
-      case (18); pairs => pairs_b2_k1_v2_d0_g0
-      case (19); pairs => pairs_b2_k2_v2_d0_g0
-      case default  ! none: code is 0 .. 19 by construction
+      case (0); pairs => pairs_b1_v1_d0_g0
+      case (1); pairs => pairs_b1_v2_d0_g0
+      case (2); pairs => pairs_b1_v1_d1_g0
+      case (3); pairs => pairs_b1_v2_d1_g0
+      case (4); pairs => pairs_b1_v1_d0_g1
+      case (5); pairs => pairs_b1_v2_d0_g1
+      case (6); pairs => pairs_b1_v1_d1_g1
+      case (7); pairs => pairs_b1_v2_d1_g1
+      case (8); pairs => pairs_b2_v1_d0_g0
+      case (9); pairs => pairs_b2_v2_d0_g0
+      case default  ! none: code is 0 .. 9 by construction
       end select
    end subroutine forces_init
 
@@ -100,9 +91,9 @@ contains
       type(params_t), intent(in) :: prm
       if (allocated(w%acc)) then
          if (size(w%drho) >= nmax) return
-         deallocate (w%acc, w%drho, w%cs, w%rhod, w%lm, w%tau)
+         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau)
       end if
-      allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax))
+      allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax))
       ! arrays of models that are off stay minimal
       if (prm%diffusion /= diff_none) then
          allocate (w%rhod(nmax))
@@ -135,27 +126,31 @@ contains
       call ensure(w, size(p%rho), prm)
       call eos_update(prm, n, p%rho, p%p, w%cs)
       if (prm%diffusion == diff_fourtakas) then
-         do i = 1, n
-            w%rhod(i) = p%rho(i) - eos_density_at_depth(prm, prm%y_surface - p%x(2, i))
-         end do
+         call eos_dynamic_density(prm, n, p%rho, p%x, w%rhod)
       else if (prm%diffusion /= diff_none) then
          w%rhod(1:n) = p%rho(1:n)
       end if
+      do i = 1, n
+         w%irho(i) = 1.0_rp/p%rho(i)
+         w%vol(i) = p%mass(i)*w%irho(i)
+      end do
+      ! the pairs of this evaluation, for every pass below
+      call nbr_build(w%nb, g, p%x, n, prm%kernel, prm%h, prm%support2, prm%fw)
       if (prm%kgc == kgc_gradient .and. prm%visc == visc_laminar_sps) then
-         ! both need a sweep over the pairs before the forces: one shared sweep
-         call sps_stress(prm, g, p, w%tau, w%lm)
+         ! both need a pass over the pairs before the forces: one shared pass
+         call sps_stress(prm, w%nb, p, w%vol, w%tau, w%lm)
       else if (prm%kgc == kgc_gradient) then
-         call kgc_matrices(prm, g, p, w%lm)
+         call kgc_matrices(w%nb, p, w%vol, w%lm)
       else if (prm%visc == visc_laminar_sps) then
-         call sps_stress(prm, g, p, w%tau)
+         call sps_stress(prm, w%nb, p, w%vol, w%tau)
       end if
       w%acc(:, 1:n) = 0.0_rp
       w%drho(1:n) = 0.0_rp
       w%mumax = 0.0_rp
       ! constants of the repulsive boundary, unused by the dynamic one
       rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
-      call pairs(n, g%ncell, g%stride, g%cstart, p%x, p%v, p%rho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
-                 p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
+      call pairs(n, w%nb%first, w%nb%j, w%nb%f, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+                 p%nrm, p%surf, prm%h, prm%eta2, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
                  prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
       ! gravity on the owned particles only: the pair sums of the halo
       ! copies are added to their owners afterwards (comm_halo_reverse)
@@ -168,49 +163,31 @@ contains
    !> term, Dalrymple and Rogers 2006), stored as (tau/rho)/rho per fluid particle.
    !> With lm present, the gradient correction matrices (kgc_matrices) from the
    !> same sweep over the pairs, at about the cost of one of the two sweeps.
-   subroutine sps_stress(prm, g, p, tau, lm)
+   subroutine sps_stress(prm, nb, p, vol, tau, lm)
       type(params_t), intent(in) :: prm
-      type(grid_t), intent(in) :: g
+      type(nbr_t), intent(in) :: nb
       type(particles_t), intent(in) :: p
+      real(rp), intent(in) :: vol(:)
       real(rp), intent(out) :: tau(:, :)
       real(rp), intent(out), optional :: lm(:, :)
       real(rp), allocatable :: gv(:, :)
-      integer :: c, i, j, r, jlo(2), jhi(2)
-      real(rp) :: dx, dy, r2, q, fac, vi, vj, dvx, dvy, sxx, sxy, syy, s2, nut, sk, hinv
-      hinv = 1.0_rp/prm%h
+      integer :: i, j, k
+      real(rp) :: dx, dy, fac, vi, vj, dvx, dvy, sxx, sxy, syy, s2, nut, sk
       allocate (gv(4, p%n))          ! du/dx, du/dy, dv/dx, dv/dy
       gv = 0.0_rp
-      ! one copy of the sweep per kernel and choice: no test inside the pair loop
+      ! one copy of the pass per choice: no test inside the pair loop
 #define PRE_SPS 1
       if (present(lm)) then
          lm(:, 1:p%n) = 0.0_rp
 #define PRE_KGC 1
-         if (prm%kernel == kernel_cubic) then
-#define KFAC(q) KF_CUBIC(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "pre_pairs.inc"
-#undef KFAC
-         else
-#define KFAC(q) KF_WENDLAND(q)
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "pre_pairs.inc"
-#undef KFAC
-         end if
 #undef PRE_KGC
          call kgc_finish(p, lm)
       else
 #define PRE_KGC 0
-         if (prm%kernel == kernel_cubic) then
-#define KFAC(q) KF_CUBIC(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "pre_pairs.inc"
-#undef KFAC
-         else
-#define KFAC(q) KF_WENDLAND(q)
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "pre_pairs.inc"
-#undef KFAC
-         end if
 #undef PRE_KGC
       end if
 #undef PRE_SPS
@@ -230,180 +207,80 @@ contains
       call comm_halo_forward(tau, p%n_own)
    end subroutine sps_stress
 
-#define PAIRS_NAME pairs_b1_k1_v1_d0_g0
+#define PAIRS_NAME pairs_b1_v1_d0_g0
 #define BC 1
-#define KERN 1
 #define VISC 1
 #define DIFF 0
 #define KGC 0
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_b1_k1_v1_d0_g1
+#define PAIRS_NAME pairs_b1_v2_d0_g0
 #define BC 1
-#define KERN 1
-#define VISC 1
-#define DIFF 0
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k1_v1_d1_g0
-#define BC 1
-#define KERN 1
-#define VISC 1
-#define DIFF 1
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k1_v1_d1_g1
-#define BC 1
-#define KERN 1
-#define VISC 1
-#define DIFF 1
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k1_v2_d0_g0
-#define BC 1
-#define KERN 1
 #define VISC 2
 #define DIFF 0
 #define KGC 0
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_b1_k1_v2_d0_g1
+#define PAIRS_NAME pairs_b1_v1_d1_g0
 #define BC 1
-#define KERN 1
-#define VISC 2
-#define DIFF 0
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k1_v2_d1_g0
-#define BC 1
-#define KERN 1
-#define VISC 2
-#define DIFF 1
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k1_v2_d1_g1
-#define BC 1
-#define KERN 1
-#define VISC 2
-#define DIFF 1
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k2_v1_d0_g0
-#define BC 1
-#define KERN 2
-#define VISC 1
-#define DIFF 0
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k2_v1_d0_g1
-#define BC 1
-#define KERN 2
-#define VISC 1
-#define DIFF 0
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k2_v1_d1_g0
-#define BC 1
-#define KERN 2
 #define VISC 1
 #define DIFF 1
 #define KGC 0
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_b1_k2_v1_d1_g1
+#define PAIRS_NAME pairs_b1_v2_d1_g0
 #define BC 1
-#define KERN 2
+#define VISC 2
+#define DIFF 1
+#define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_b1_v1_d0_g1
+#define BC 1
+#define VISC 1
+#define DIFF 0
+#define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_b1_v2_d0_g1
+#define BC 1
+#define VISC 2
+#define DIFF 0
+#define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_b1_v1_d1_g1
+#define BC 1
 #define VISC 1
 #define DIFF 1
 #define KGC 1
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_b1_k2_v2_d0_g0
+#define PAIRS_NAME pairs_b1_v2_d1_g1
 #define BC 1
-#define KERN 2
-#define VISC 2
-#define DIFF 0
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k2_v2_d0_g1
-#define BC 1
-#define KERN 2
-#define VISC 2
-#define DIFF 0
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k2_v2_d1_g0
-#define BC 1
-#define KERN 2
-#define VISC 2
-#define DIFF 1
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_k2_v2_d1_g1
-#define BC 1
-#define KERN 2
 #define VISC 2
 #define DIFF 1
 #define KGC 1
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_b2_k1_v1_d0_g0
+#define PAIRS_NAME pairs_b2_v1_d0_g0
 #define BC 2
-#define KERN 1
 #define VISC 1
 #define DIFF 0
 #define KGC 0
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_b2_k1_v2_d0_g0
+#define PAIRS_NAME pairs_b2_v2_d0_g0
 #define BC 2
-#define KERN 1
-#define VISC 2
-#define DIFF 0
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b2_k2_v1_d0_g0
-#define BC 2
-#define KERN 2
-#define VISC 1
-#define DIFF 0
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b2_k2_v2_d0_g0
-#define BC 2
-#define KERN 2
 #define VISC 2
 #define DIFF 0
 #define KGC 0

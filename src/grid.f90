@@ -1,12 +1,16 @@
-!> Neighbour grid: square cells of side 2h, numbered column by column (y
-!> fastest), with an empty ghost row below and above every column. A rank
+!> Neighbour grid: cells 2h wide and 2h/reach tall (reach = 2: the stencil
+!> reaches two cells up and down), numbered column by column (y fastest), with
+!> reach empty ghost rows below and above every column. Cells shorter than the
+!> support leave fewer candidates beyond 2h in the stencil: its area is
+!> 12 h^2 + 6 h^2/reach against 2 pi h^2 for the half support (18 h^2 with
+!> square cells, 15 h^2 with reach 2). A rank
 !> holds the columns of its slab of the domain (all of them on one rank),
 !> an empty ghost column on the left, and on the right either an empty
 !> ghost column or the halo: the first column of the next rank's slab.
-!> Particles are sorted by cell (counting sort), so that a cell and the one
-!> above it, and the three neighbouring cells of the next column, are each
-!> one contiguous index range: the half stencil of a pair loop is two
-!> ranges per particle. Columns being contiguous, the owned particles come
+!> Particles are sorted by cell (counting sort), so that a cell and the reach
+!> cells above it, and the 2 reach + 1 neighbouring cells of the next column,
+!> are each one contiguous index range: the half stencil of a pair loop is two
+!> ranges per particle (grid_ranges). Columns being contiguous, the owned particles come
 !> first and the halo (the last column) after them.
 module grid
    use kinds, only: rp
@@ -14,18 +18,20 @@ module grid
    implicit none
    private
    public :: grid_t, grid_init, grid_sort, grid_cell_of, grid_cell, grid_column, grid_visit_pairs, grid_first_column_end, &
-             grid_add_halo
+             grid_add_halo, grid_ranges, grid_last_cell
 
    type :: grid_t
       real(rp) :: x0, y0          !< lower-left corner of the domain [m]
-      real(rp) :: cs              !< cell side = 2h [m]
+      real(rp) :: cs              !< cell width = 2h [m]
+      real(rp) :: csy             !< cell height = cs/reach [m]
+      integer :: reach = 1        !< cell rows the stencil reaches up and down; ghost rows per column end
       integer :: ncx_all          !< cell columns over the whole domain
       integer :: col0             !< first column of this rank's slab (0-based, global)
       integer :: ncol, ncy        !< cell columns of this rank's slab; cell rows
-      integer :: ny               !< rows with the ghost rows: ncy+2
+      integer :: ny               !< rows with the ghost rows: ncy + 2 reach
       integer :: stride           !< index distance of neighbouring columns: ny
-      ! cell (ix, iy) (ix: 0 ghost, 1..ncol slab, ncol+1 halo or ghost; iy: 0 and
-      ! ncy+1 ghosts) is number ix*ny + iy + 1: see grid_cell
+      ! cell (ix, iy) (ix: 0 ghost, 1..ncol slab, ncol+1 halo or ghost; iy: 1..ncy,
+      ! with reach ghost rows below and above) is number ix*ny + iy + reach: see grid_cell
       integer :: ncell            !< nx*ny
       integer, allocatable :: cstart(:)   !< particles of cell c: cstart(c) .. cstart(c+1)-1
       integer, allocatable :: cell(:)     !< cell of each particle (scratch)
@@ -45,14 +51,15 @@ contains
       g%x0 = xmin
       g%y0 = ymin
       g%ncx_all = max(1, ceiling((xmax - xmin)/g%cs))
-      g%ncy = max(1, ceiling((ymax - ymin)/g%cs))
+      g%csy = g%cs/g%reach
+      g%ncy = max(1, ceiling((ymax - ymin)/g%csy))
       g%col0 = 0
       g%ncol = g%ncx_all
       if (present(col_lo) .and. present(col_hi)) then
          g%col0 = col_lo
          g%ncol = col_hi - col_lo
       end if
-      g%ny = g%ncy + 2
+      g%ny = g%ncy + 2*g%reach
       g%stride = g%ny
       g%ncell = (g%ncol + 2)*g%ny
       allocate (g%cstart(g%ncell + 2))
@@ -74,8 +81,8 @@ contains
       real(rp), intent(in) :: x, y
       integer :: ix, iy
       ix = min(max(grid_column(g%x0, g%cs, g%ncx_all, x) - g%col0 + 1, 1), g%ncol + 1)
-      iy = min(max(int((y - g%y0)/g%cs) + 1, 1), g%ncy)
-      c = iy + ix*g%ny + 1
+      iy = min(max(int((y - g%y0)/g%csy) + 1, 1), g%ncy)
+      c = iy + ix*g%ny + g%reach
    end function grid_cell_of
 
    !> Cell number of global column k (0-based, as grid_column) and row iy
@@ -85,8 +92,30 @@ contains
       integer, intent(in) :: k, iy
       c = 0
       if (k < g%col0 .or. k >= g%col0 + g%ncol) return
-      c = iy + (k - g%col0 + 1)*g%ny + 1
+      c = iy + (k - g%col0 + 1)*g%ny + g%reach
    end function grid_cell
+
+   !> The half stencil of particle i of cell c: the later particles of c and
+   !> those of the reach cells above it (jlo(1) .. jhi(1)), and those of the
+   !> 2 reach + 1 cells of the next column around c (jlo(2) .. jhi(2)). Ghost
+   !> cells are empty, so no range needs a bounds test. The pair list builds
+   !> on this; the hot loop writes the same two ranges inline.
+   pure subroutine grid_ranges(g, c, i, jlo, jhi)
+      type(grid_t), intent(in) :: g
+      integer, intent(in) :: c, i
+      integer, intent(out) :: jlo(2), jhi(2)
+      jlo(1) = i + 1
+      jhi(1) = g%cstart(c + g%reach + 1) - 1
+      jlo(2) = g%cstart(c + g%stride - g%reach)
+      jhi(2) = g%cstart(c + g%stride + g%reach + 1) - 1
+   end subroutine grid_ranges
+
+   !> The last cell whose particles start stencils: the cells after it (the last
+   !> column, the halo or an empty ghost column) only end them.
+   pure integer function grid_last_cell(g) result(c)
+      type(grid_t), intent(in) :: g
+      c = g%ncell - g%stride - g%reach
+   end function grid_last_cell
 
    !> Sort particles by cell. Particles with drop(i) set are moved past the
    !> end and forgotten; p%n shrinks accordingly. The sort is stable, so the
@@ -174,11 +203,7 @@ contains
    end function grid_add_halo
 
    !> Call visit(i, j, r2) once for every pair i /= j closer than sqrt(r2max),
-   !> by the half stencil every pair loop uses: for particle i of cell c, the
-   !> later particles of c and those of c+1 (one index range), then the cells
-   !> c+stride-1 .. c+stride+1 of the next column (another range). Ghost cells
-   !> are empty, so no range needs a bounds test. The hot loops inline this
-   !> traversal.
+   !> by the half stencil every pair loop uses (grid_ranges).
    subroutine grid_visit_pairs(g, x, r2max, visit)
       type(grid_t), intent(in) :: g
       real(rp), intent(in) :: x(:, :), r2max
@@ -192,10 +217,9 @@ contains
       end interface
       integer :: c, i, j, r, jlo(2), jhi(2)
       real(rp) :: r2
-      do c = 1, g%ncell - g%stride - 1
+      do c = 1, grid_last_cell(g)
          do i = g%cstart(c), g%cstart(c + 1) - 1
-            jlo = [i + 1, g%cstart(c + g%stride - 1)]
-            jhi = [g%cstart(c + 2) - 1, g%cstart(c + g%stride + 2) - 1]
+            call grid_ranges(g, c, i, jlo, jhi)
             do r = 1, 2
                do j = jlo(r), jhi(r)
                   r2 = (x(1, i) - x(1, j))**2 + (x(2, i) - x(2, j))**2

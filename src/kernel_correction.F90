@@ -6,8 +6,9 @@ module kernel_correction
    use constants, only: kind_fluid
    use params, only: params_t
    use kernel, only: kernel_cubic
-   use grid, only: grid_t
+   use grid, only: grid_t, grid_ranges, grid_last_cell
    use particles, only: particles_t
+   use nbr_list, only: nbr_t
    use comm_halo, only: comm_halo_forward, comm_halo_reverse
    implicit none
    private
@@ -20,29 +21,18 @@ contains
 
    !> L_i stored as (Lxx, Lxy, Lyy) in lm(:, i), for every particle; the
    !> identity where the moment matrix is near-singular (free surface spray).
-   subroutine kgc_matrices(prm, g, p, lm)
-      type(params_t), intent(in) :: prm
-      type(grid_t), intent(in) :: g
+   subroutine kgc_matrices(nb, p, vol, lm)
+      type(nbr_t), intent(in) :: nb
       type(particles_t), intent(in) :: p
+      real(rp), intent(in) :: vol(:)       !< mass/density of every particle
       real(rp), intent(out) :: lm(:, :)
-      integer :: c, i, j, r, jlo(2), jhi(2)
-      real(rp) :: dx, dy, r2, q, fac, vi, vj, hinv
-      hinv = 1.0_rp/prm%h
+      integer :: i, j, k
+      real(rp) :: dx, dy, fac, vi, vj
       lm(:, 1:p%n) = 0.0_rp
-      ! one copy of the sweep per kernel: no kernel test inside the pair loop
 #define PRE_KGC 1
 #define PRE_SPS 0
-      if (prm%kernel == kernel_cubic) then
-#define KFAC(q) KF_CUBIC(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "pre_pairs.inc"
-#undef KFAC
-      else
-#define KFAC(q) KF_WENDLAND(q)
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "pre_pairs.inc"
-#undef KFAC
-      end if
 #undef PRE_KGC
 #undef PRE_SPS
       call kgc_finish(p, lm)

@@ -23,6 +23,7 @@ module params
       real(rp) :: aw, fw                   !< kernel normalisation aw and aw/h^2
       real(rp) :: w0                       !< W(0)
       real(rp) :: rho0, gamma, g, c0, b    !< Tait: p = b ((rho/rho0)^gamma - 1)
+      integer :: igamma = 0                !< gamma when it is a whole number, else 0
       real(rp) :: h_swl, y_surface         !< still-water depth and surface level [m]
       real(rp) :: rho_min, rho_max         !< removal limits [kg/m3]
       real(rp) :: cfl
@@ -66,6 +67,7 @@ contains
       prm%w0 = prm%aw                      ! both kernels have w(0) = 1
       prm%rho0 = c%fluid%rho0
       prm%gamma = c%fluid%gamma
+      if (abs(prm%gamma - anint(prm%gamma)) < 1.0e-12_rp*prm%gamma) prm%igamma = nint(prm%gamma)
       prm%g = c%fluid%gravity
       if (c%fluid%h_swl > 0.0_rp) then
          prm%h_swl = c%fluid%h_swl

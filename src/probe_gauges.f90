@@ -102,7 +102,7 @@ contains
       real(rp) :: dy, ybot
       dy = 0.25_rp*prm%dp
       ybot = g%y0
-      ny = ceiling(g%ncy*g%cs/dy) + 1
+      ny = ceiling(g%ncy*g%csy/dy) + 1
       ! one block per gauge: ny kernel sums (elevation) or 2 (pressure)
       allocate (acc(size(gs)*ny))
       acc = 0.0_rp

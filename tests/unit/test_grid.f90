@@ -26,7 +26,8 @@ program test_grid
    use particles, only: particles_alloc
    use grid, only: grid_t, grid_init, grid_sort, grid_visit_pairs
    use params, only: params_t, visc_artificial, diff_none, kgc_none, integ_symplectic
-   use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw
+   use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw, kernel_f
+   use nbr_list, only: nbr_t, nbr_build
    use fluid_forces, only: forces_work_t, forces_init, forces_compute
    use testing, only: check, check_close, test_summary
    implicit none
@@ -34,9 +35,10 @@ program test_grid
    type(grid_t) :: g
    type(params_t) :: prm
    type(forces_work_t) :: w
+   type(nbr_t) :: nb
    logical, allocatable :: drop(:)
-   real(rp) :: h, r(2), d(2), gw(2), dr, a(2), err_d, err_a, scale_d, scale_a, pij
-   integer :: i, j, nbad, nmiss, ndup, kk
+   real(rp) :: h, r(2), d(2), gw(2), dr, a(2), err_d, err_a, scale_d, scale_a, pij, err_f
+   integer :: i, j, k, nbad, nmiss, ndup, kk
    integer, parameter :: kernels(2) = [kernel_wendland, kernel_cubic]
 
    h = 0.02_rp
@@ -87,6 +89,39 @@ program test_grid
    call check(ndup == 0, 'no pair visited twice')
    call check(nbad == 0, 'no pair beyond 2h visited')
    call check(count(seen > 0) > 10*n, 'the set has many pairs (test is not vacuous)')
+
+   ! the pair list of an evaluation holds the same pairs, each once, with the kernel factor of the pair
+   do kk = 1, 2
+      call nbr_build(nb, g, p%x, p%n, kernels(kk), h, 4.0_rp*h*h, kernel_norm(kernels(kk), h)/(h*h))
+      seen = 0
+      err_f = 0.0_rp
+      nbad = 0
+      do i = 1, n
+         do k = nb%first(i), nb%first(i + 1) - 1
+            j = nb%j(k)
+            if (j <= i) nbad = nbad + 1
+            seen(p%id(i), p%id(j)) = seen(p%id(i), p%id(j)) + 1
+            dr = norm2(p%x(:, i) - p%x(:, j))
+            ! against the largest factor, F(0+): F itself falls to 0 at the edge of the support
+            err_f = max(err_f, abs(nb%f(k) - kernel_f(kernels(kk), dr, h))/abs(kernel_f(kernels(kk), 1.0e-9_rp*h, h)))
+         end do
+      end do
+      nmiss = 0; ndup = 0
+      do j = 1, n
+         do i = j + 1, n
+            dr = norm2(p%x(:, p_of(i)) - p%x(:, p_of(j)))
+            if (dr < 2.0_rp*h) then
+               if (seen(i, j) + seen(j, i) == 0) nmiss = nmiss + 1
+               if (seen(i, j) + seen(j, i) > 1) ndup = ndup + 1
+            else if (seen(i, j) + seen(j, i) > 0) then
+               nbad = nbad + 1
+            end if
+         end do
+      end do
+      call check(nb%np == count(seen > 0) .and. nb%first(n + 1) == nb%np + 1, 'pair list: its length is its pairs')
+      call check(nmiss == 0 .and. ndup == 0 .and. nbad == 0, 'pair list: the brute-force set, each pair once, j after i')
+      call check(err_f < 1.0e-13_rp, 'pair list: kernel factor F(r) of every pair to 1e-13 of F(0)')
+   end do
 
    ! the production pair loop: continuity and pressure sums against brute force
    do kk = 1, 2

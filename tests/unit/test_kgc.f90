@@ -9,11 +9,13 @@ program test_kgc
    use params, only: params_t
    use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw
    use kernel_correction, only: kgc_matrices
+   use nbr_list, only: nbr_t, nbr_build
    use testing, only: check, check_close, test_summary
    implicit none
    integer, parameter :: m = 30
    type(particles_t) :: p
    type(grid_t) :: g
+   type(nbr_t) :: nb
    type(params_t) :: prm
    real(rp), allocatable :: lm(:, :), f(:)
    logical, allocatable :: drop(:)
@@ -51,7 +53,8 @@ program test_kgc
       prm%fw = prm%aw/prm%h2
       call grid_init(g, 0.0_rp, (m + 1)*dp, 0.0_rp, (m + 1)*dp, prm%h)
       call grid_sort(g, p, drop)
-      call kgc_matrices(prm, g, p, lm)
+      call nbr_build(nb, g, p%x, p%n, prm%kernel, prm%h, prm%support2, prm%fw)
+      call kgc_matrices(nb, p, p%mass(1:n)/p%rho(1:n), lm)
       f(1:n) = a0 + bx*p%x(1, 1:n) + by*p%x(2, 1:n)
       worst = 0.0_rp
       worst_raw = 0.0_rp

@@ -1,0 +1,112 @@
+!> The pair list of one force evaluation: every pair of particles closer than
+!> the kernel support, each once, found by the grid's half stencil, with the
+!> kernel factor F of the pair (grad_i W_ij = F (x_i - x_j)). Every pass over
+!> the pairs (gradient correction, SPS velocity gradients, continuity and
+!> momentum) reads this list instead of searching the grid again: the search,
+!> the square root and the kernel are paid once per evaluation, not once per
+!> pass, and a pass has no rejected candidates and no cut-off test.
+!>
+!> Order: the pairs of particle i are pairs first(i) .. first(i+1)-1, with
+!> i in increasing order and its partners in the grid's stencil order, so a
+!> pass over the list sums in the same order as a pass over the grid did.
+!> Rows of the halo particles (on several ranks) are empty: they appear only
+!> as partners j.
+module nbr_list
+   use kinds, only: rp
+   use grid, only: grid_t, grid_ranges, grid_last_cell
+   use kernel, only: kernel_cubic
+   implicit none
+   private
+   public :: nbr_t, nbr_build
+
+   type :: nbr_t
+      integer :: n = 0                     !< particles the list was built for
+      integer :: np = 0                    !< pairs
+      integer, allocatable :: first(:)     !< pairs of particle i: first(i) .. first(i+1)-1
+      integer, allocatable :: j(:)         !< partner of each pair (the later particle of the stencil)
+      real(rp), allocatable :: f(:)        !< kernel factor F of each pair [1/m4 in 2D]
+   end type nbr_t
+
+contains
+
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "kernel_formulas.inc"
+
+   !> The pairs of the n particles at x, sorted by the grid g, within the
+   !> support (squared distance below support2), and their kernel factors
+   !> for the kernel k with smoothing length h and factor fw = aw/h^2.
+   subroutine nbr_build(nb, g, x, n, k, h, support2, fw)
+      type(nbr_t), intent(inout) :: nb
+      type(grid_t), intent(in) :: g
+      real(rp), intent(in) :: x(:, :)
+      integer, intent(in) :: n, k
+      real(rp), intent(in) :: h, support2, fw
+      integer :: c, i, j, r, m, jlo(2), jhi(2), need
+      real(rp) :: xi, yi, dx, dy, r2, q, hinv
+      if (.not. allocated(nb%first)) allocate (nb%first(n + 1))
+      if (size(nb%first) < n + 1) then
+         deallocate (nb%first)
+         allocate (nb%first(n + 1))
+      end if
+      ! a first guess of the size: about 16 pairs a particle at h = 1.6 dp
+      if (.not. allocated(nb%j)) allocate (nb%j(max(20*n, 1024)), nb%f(max(20*n, 1024)))
+      nb%n = n
+      m = 0
+      ! particles before the first stencil cell (the empty left ghost column) have no pairs
+      nb%first(1:g%cstart(1)) = 1
+      do c = 1, grid_last_cell(g)
+         do i = g%cstart(c), g%cstart(c + 1) - 1
+            nb%first(i) = m + 1
+            call grid_ranges(g, c, i, jlo, jhi)
+            need = m + max(jhi(1) - jlo(1) + 1, 0) + max(jhi(2) - jlo(2) + 1, 0)
+            if (need > size(nb%j)) call grow(nb, need)
+            xi = x(1, i); yi = x(2, i)
+            do r = 1, 2
+               do j = jlo(r), jhi(r)
+                  dx = xi - x(1, j)
+                  dy = yi - x(2, j)
+                  r2 = dx*dx + dy*dy
+                  ! kept without a branch: the slot is written always and taken
+                  ! when the pair is within the support (a branch here would be
+                  ! mispredicted for about a third of the candidates)
+                  nb%j(m + 1) = j
+                  nb%f(m + 1) = r2
+                  m = m + merge(1, 0, r2 < support2)
+               end do
+            end do
+         end do
+      end do
+      ! particles of the last column (the halo or an empty ghost column) start no pairs
+      nb%first(g%cstart(grid_last_cell(g) + 1):n + 1) = m + 1
+      nb%np = m
+      ! the kernel factor of every pair, from its squared distance: one loop
+      ! per kernel, without branches, that the compiler vectorises
+      hinv = 1.0_rp/h
+      if (k == kernel_cubic) then
+         do m = 1, nb%np
+            q = sqrt(nb%f(m))*hinv
+            nb%f(m) = fw*KF_CUBIC(q)
+         end do
+      else
+         do m = 1, nb%np
+            q = sqrt(nb%f(m))*hinv
+            nb%f(m) = fw*KF_WENDLAND(q)
+         end do
+      end if
+   end subroutine nbr_build
+
+   !> Room for at least need pairs, keeping the first ones.
+   subroutine grow(nb, need)
+      type(nbr_t), intent(inout) :: nb
+      integer, intent(in) :: need
+      integer, allocatable :: jn(:)
+      real(rp), allocatable :: fn(:)
+      integer :: cap
+      cap = max(need, 2*size(nb%j))
+      allocate (jn(cap), fn(cap))
+      jn(1:size(nb%j)) = nb%j
+      fn(1:size(nb%f)) = nb%f
+      call move_alloc(jn, nb%j)
+      call move_alloc(fn, nb%f)
+   end subroutine grow
+end module nbr_list
