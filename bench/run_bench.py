@@ -1,16 +1,27 @@
-"""Cost of a step: the 2D dam-break benchmark at dp, dp/2 and dp/4.
+"""Cost of a step on the two workloads of doc/performance.md.
 
-Runs build/mbsph on bench/dambreak_bench.nml at each size and prints, per
-size, the particles, steps, microseconds per particle-step (the solver's own
-end-of-run figure: wall time of the stepping loop / particle-steps) and the
+- The 2D dam break (bench/dambreak_bench.nml) at dp, dp/2 and dp/4: fluid and
+  walls only, the Verlet integrator (one force evaluation a step).
+- The breakwater workload: the settling case of input/breakwater/regular.nml
+  (gradient correction, density diffusion, the paddle, eleven armour units in
+  contact, the symplectic integrator: two force evaluations a step) at its dp
+  and at dp/2, each a fixed number of steps.
+
+Runs build/mbsph on each case and prints, per size, the particles, steps,
+microseconds per particle-step (the solver's own end-of-run figure: wall time
+of the stepping loop / particle-steps), the share of the pair loop and the
 peak resident memory per particle, both raw (RSS / N) and marginal (the
-slope of RSS against N between sizes, which leaves out the fixed cost of
-the MPI and HDF5 libraries).
+slope of RSS against N between sizes, which leaves out the fixed cost of the
+MPI and HDF5 libraries). It ends with one line per workload, the smallest size:
+
+    dam break 2D: 0.123 us per particle-step (23018 particles)
+    breakwater 2D: 0.234 us per particle-step (14344 particles)
 
     .venv/bin/python bench/run_bench.py [--sizes 1 2 4] [--steps 0 800 200] [--t-end T]
+                                        [--bw-sizes 1 2] [--bw-steps 400 100] [--only dambreak|breakwater]
 
---steps gives max_steps per size (0: the whole 0.5 s of flow); --t-end runs
-every size for the same simulated time instead (no step limit).
+--steps gives max_steps per size of the dam break (0: the whole 0.5 s of flow);
+--t-end runs every size for the same simulated time instead (no step limit).
 """
 import argparse
 import os
@@ -47,30 +58,27 @@ def run(case: Path) -> tuple[str, int]:
     return out, usage.ru_maxrss * 1024
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--sizes", type=int, nargs="+", default=[1, 2, 4], help="refinements: dp = 0.01 / size")
-    ap.add_argument("--steps", type=int, nargs="+", default=[0, 800, 200],
-                    help="max_steps per size (0 = the whole 0.5 s)")
-    ap.add_argument("--t-end", type=float, default=None, help="simulated time for every size (overrides --steps)")
-    args = ap.parse_args()
-    template = (ROOT / "bench" / "dambreak_bench.nml").read_text()
-    rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for k, size in enumerate(args.sizes):
-            dp = 0.01 / size
-            steps = args.steps[k] if k < len(args.steps) else 0
-            if args.t_end is not None:
-                steps = 0
-            case = Path(tmp) / f"bench_{size}.nml"
-            case.write_text(make_case(template, dp, steps, Path(tmp) / f"out_{size}", args.t_end))
-            out, rss = run(case)
-            n = int(re.search(r"particles: (\d+)", out).group(1))
-            us = float(re.search(r"cost: ([\d.]+) microseconds", out).group(1))
-            nsteps = int(re.search(r"after (\d+) steps", out).group(1))
-            pair = float(re.search(r"pair loop\s+([\d.]+)", out).group(1))
-            wall = float(re.search(r"particle-steps in ([\d.]+) s", out).group(1))
-            rows.append((dp, n, nsteps, us, rss, pair / wall))
+def make_breakwater(template: str, size: int, steps: int, out_dir: Path) -> str:
+    """The settling case at dp = 0.01 / size, max_steps steps, no progress lines."""
+    assert "  dp = 0.01\n" in template and "out_dir = 'OUT/breakwater_regular'" in template
+    text = template.replace("  dp = 0.01\n", f"  dp = {0.01 / size!r}\n")
+    return text.replace("out_dir = 'OUT/breakwater_regular'",
+                        f"out_dir = '{out_dir}'\n  max_steps = {steps}\n  progress_interval = 1.0e9")
+
+
+def measure(case: Path) -> tuple[int, int, float, int, float]:
+    """Particles, steps, us per particle-step, peak RSS [B] and pair-loop share of one run."""
+    out, rss = run(case)
+    n = int(re.search(r"particles: (\d+)", out).group(1))
+    us = float(re.search(r"cost: ([\d.]+) microseconds", out).group(1))
+    nsteps = int(re.search(r"after (\d+) steps", out).group(1))
+    pair = float(re.search(r"pair loop\s+([\d.]+)", out).group(1))
+    wall = float(re.search(r"particle-steps in ([\d.]+) s", out).group(1))
+    return n, nsteps, us, rss, pair / wall
+
+
+def table(title: str, rows: list) -> None:
+    print(title)
     print(f"{'dp [m]':>8} {'particles':>10} {'steps':>7} {'us/particle-step':>17} "
           f"{'pair loop share':>16} {'RSS/N [B]':>10} {'marginal [B]':>13}")
     for k, (dp, n, nsteps, us, rss, share) in enumerate(rows):
@@ -78,6 +86,48 @@ def main() -> None:
         if k > 0:
             marginal = f"{(rss - rows[k - 1][4]) / (n - rows[k - 1][1]):.0f}"
         print(f"{dp:8.4f} {n:10d} {nsteps:7d} {us:17.3f} {100 * share:15.1f}% {rss / n:10.0f} {marginal:>13}")
+    print()
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--sizes", type=int, nargs="+", default=[1, 2, 4], help="dam break refinements: dp = 0.01 / size")
+    ap.add_argument("--steps", type=int, nargs="+", default=[0, 800, 200],
+                    help="dam break max_steps per size (0 = the whole 0.5 s)")
+    ap.add_argument("--t-end", type=float, default=None, help="simulated time for every size (overrides --steps)")
+    ap.add_argument("--bw-sizes", type=int, nargs="+", default=[1, 2], help="breakwater refinements: dp = 0.01 / size")
+    ap.add_argument("--bw-steps", type=int, nargs="+", default=[400, 100], help="breakwater max_steps per size")
+    ap.add_argument("--only", choices=["dambreak", "breakwater"], default=None, help="run one workload")
+    args = ap.parse_args()
+    summary = []
+    with tempfile.TemporaryDirectory() as tmp:
+        if args.only != "breakwater":
+            template = (ROOT / "bench" / "dambreak_bench.nml").read_text()
+            rows = []
+            for k, size in enumerate(args.sizes):
+                dp = 0.01 / size
+                steps = args.steps[k] if k < len(args.steps) else 0
+                if args.t_end is not None:
+                    steps = 0
+                case = Path(tmp) / f"bench_{size}.nml"
+                case.write_text(make_case(template, dp, steps, Path(tmp) / f"out_{size}", args.t_end))
+                n, nsteps, us, rss, share = measure(case)
+                rows.append((dp, n, nsteps, us, rss, share))
+            table("dam break 2D (bench/dambreak_bench.nml)", rows)
+            summary.append(f"dam break 2D: {rows[0][3]:.3f} us per particle-step ({rows[0][1]} particles)")
+        if args.only != "dambreak":
+            template = (ROOT / "input" / "breakwater" / "regular.nml").read_text()
+            rows = []
+            for k, size in enumerate(args.bw_sizes):
+                steps = args.bw_steps[k] if k < len(args.bw_steps) else args.bw_steps[-1]
+                case = Path(tmp) / f"breakwater_{size}.nml"
+                case.write_text(make_breakwater(template, size, steps, Path(tmp) / f"bw_{size}"))
+                n, nsteps, us, rss, share = measure(case)
+                rows.append((0.01 / size, n, nsteps, us, rss, share))
+            table("breakwater 2D (input/breakwater/regular.nml, settling)", rows)
+            summary.append(f"breakwater 2D: {rows[0][3]:.3f} us per particle-step ({rows[0][1]} particles)")
+    for line in summary:
+        print(line)
 
 
 if __name__ == "__main__":

@@ -24,7 +24,7 @@ module comm_halo
    implicit none
    private
    public :: comm_halo_migrate, comm_halo_build, comm_halo_refresh, comm_halo_forward, comm_halo_reverse, &
-             comm_halo_redistribute, comm_halo_counts
+             comm_halo_redistribute
 
    interface comm_halo_forward
       module procedure forward_1, forward_2
@@ -74,12 +74,6 @@ contains
       call move_alloc(b, buf)
    end subroutine ensure_keep
 
-   !> Halo sizes: particles sent to the left, particles received from the right.
-   subroutine comm_halo_counts(nsent, nreceived)
-      integer, intent(out) :: nsent, nreceived
-      nsent = n_send
-      nreceived = n_recv
-   end subroutine comm_halo_counts
 
    !> Every value of particle i, from position k of buf.
    subroutine pack_full(p, i, buf, k)

@@ -9,7 +9,7 @@ module decomp
    implicit none
    private
    public :: decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, decomp_edges, &
-             decomp_lo, decomp_hi, decomp_ncol
+             decomp_lo, decomp_hi
 
    real(rp) :: x0 = 0.0_rp, cs = 1.0_rp
    integer :: ncol = 1                     !< cell columns of the domain
@@ -45,9 +45,6 @@ contains
       end do
    end subroutine set_owner
 
-   integer function decomp_ncol()
-      decomp_ncol = ncol
-   end function decomp_ncol
 
    !> First column of this rank's slab (0-based).
    integer function decomp_lo()

@@ -7,7 +7,7 @@ module errors
    use logger, only: log_error
    implicit none
    private
-   public :: fatal, input_error, warn
+   public :: fatal, input_error
 
 contains
 
@@ -39,8 +39,4 @@ contains
       end if
    end subroutine input_error
 
-   subroutine warn(msg)
-      character(len=*), intent(in) :: msg
-      if (comm_rank() == 0) call log_error('mbsph: warning: '//msg)
-   end subroutine warn
 end module errors

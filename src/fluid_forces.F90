@@ -9,10 +9,11 @@ module fluid_forces
    use kinds, only: rp
    use constants, only: kind_fluid
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive
-   use grid, only: grid_t
+   use grid, only: grid_t, grid_ranges, grid_last_cell
    use particles, only: particles_t
    use eos, only: eos_update, eos_dynamic_density
    use nbr_list, only: nbr_t, nbr_build
+   use kernel, only: kernel_cubic
    use kernel_correction, only: kgc_matrices, kgc_finish
    use comm_halo, only: comm_halo_forward, comm_halo_reverse
    implicit none
@@ -38,17 +39,17 @@ module fluid_forces
    end type forces_work_t
 
    abstract interface
-      subroutine pairs_iface(n, first, pj, pf, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, &
-                             h, eta2, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
-         import :: rp, n_rep
+      subroutine pairs_iface(n, g, nb, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, &
+                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
+         import :: rp, n_rep, grid_t, nbr_t
          implicit none
          integer, intent(in) :: n
-         integer, intent(in) :: first(:), pj(:)
-         real(rp), intent(in) :: pf(:)
+         type(grid_t), intent(in) :: g
+         type(nbr_t), intent(in) :: nb
          real(rp), intent(in) :: x(2, n), v(2, n), rho(n), irho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
          real(rp), intent(in) :: nrm(2, n)
          integer, intent(in) :: kind(n), surf(n)
-         real(rp), intent(in) :: h, eta2, alpha, nu4, dcoef, ckgc, rep(n_rep)
+         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
          real(rp), intent(inout) :: acc(2, n), drho(n)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_iface
@@ -58,32 +59,52 @@ module fluid_forces
 
 contains
 
-   !> Choose the pair loop for this run's models.
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "kernel_formulas.inc"
+
+   !> Choose the pair loop for this run's models. A model that needs a pass
+   !> over the pairs before the forces (gradient correction, SPS) gets the
+   !> loops over the evaluation's pair list, which both passes share; the
+   !> others a loop over the grid's stencil, which needs no list in memory.
    subroutine forces_init(prm)
       type(params_t), intent(in) :: prm
       integer :: code
       ! the repulsive boundary runs without density diffusion and gradient
       ! correction (the input refuses them; doc/theory.md says why)
-      code = merge(1, 0, prm%visc == visc_laminar_sps)
-      if (prm%boundary == bnd_repulsive) then
-         code = code + 8
+      if (needs_list(prm)) then
+         code = merge(1, 0, prm%visc == visc_laminar_sps) + 2*merge(1, 0, prm%diffusion /= diff_none) + &
+                4*merge(1, 0, prm%kgc == kgc_gradient)
+         if (prm%boundary == bnd_repulsive) code = 8
+         select case (code)
+         case (1); pairs => pairs_l_b1_v2_d0_g0
+         case (3); pairs => pairs_l_b1_v2_d1_g0
+         case (4); pairs => pairs_l_b1_v1_d0_g1
+         case (5); pairs => pairs_l_b1_v2_d0_g1
+         case (6); pairs => pairs_l_b1_v1_d1_g1
+         case (7); pairs => pairs_l_b1_v2_d1_g1
+         case (8); pairs => pairs_l_b2_v2_d0_g0
+         case default  ! none: 0 and 2 need no list
+         end select
       else
-         code = code + 2*merge(1, 0, prm%diffusion /= diff_none) + 4*merge(1, 0, prm%kgc == kgc_gradient)
+         code = merge(1, 0, prm%kernel == kernel_cubic) + 2*merge(1, 0, prm%diffusion /= diff_none)
+         if (prm%boundary == bnd_repulsive) code = 4 + merge(1, 0, prm%kernel == kernel_cubic)
+         select case (code)
+         case (0); pairs => pairs_s_b1_k1_d0
+         case (1); pairs => pairs_s_b1_k2_d0
+         case (2); pairs => pairs_s_b1_k1_d1
+         case (3); pairs => pairs_s_b1_k2_d1
+         case (4); pairs => pairs_s_b2_k1
+         case (5); pairs => pairs_s_b2_k2
+         case default  ! none: code is 0 .. 5 by construction
+         end select
       end if
-      select case (code)
-      case (0); pairs => pairs_b1_v1_d0_g0
-      case (1); pairs => pairs_b1_v2_d0_g0
-      case (2); pairs => pairs_b1_v1_d1_g0
-      case (3); pairs => pairs_b1_v2_d1_g0
-      case (4); pairs => pairs_b1_v1_d0_g1
-      case (5); pairs => pairs_b1_v2_d0_g1
-      case (6); pairs => pairs_b1_v1_d1_g1
-      case (7); pairs => pairs_b1_v2_d1_g1
-      case (8); pairs => pairs_b2_v1_d0_g0
-      case (9); pairs => pairs_b2_v2_d0_g0
-      case default  ! none: code is 0 .. 9 by construction
-      end select
    end subroutine forces_init
+
+   !> The models that sum over the pairs before the forces, and so share a pair list.
+   pure logical function needs_list(prm)
+      type(params_t), intent(in) :: prm
+      needs_list = prm%kgc == kgc_gradient .or. prm%visc == visc_laminar_sps
+   end function needs_list
 
    subroutine ensure(w, nmax, prm)
       type(forces_work_t), intent(inout) :: w
@@ -134,8 +155,8 @@ contains
          w%irho(i) = 1.0_rp/p%rho(i)
          w%vol(i) = p%mass(i)*w%irho(i)
       end do
-      ! the pairs of this evaluation, for every pass below
-      call nbr_build(w%nb, g, p%x, n, prm%kernel, prm%h, prm%support2, prm%fw)
+      ! the pairs of this evaluation, for the passes below, when there are two
+      if (needs_list(prm)) call nbr_build(w%nb, g, p%x, n, prm%kernel, prm%h, prm%support2, prm%fw)
       if (prm%kgc == kgc_gradient .and. prm%visc == visc_laminar_sps) then
          ! both need a pass over the pairs before the forces: one shared pass
          call sps_stress(prm, w%nb, p, w%vol, w%tau, w%lm)
@@ -149,8 +170,8 @@ contains
       w%mumax = 0.0_rp
       ! constants of the repulsive boundary, unused by the dynamic one
       rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
-      call pairs(n, w%nb%first, w%nb%j, w%nb%f, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
-                 p%nrm, p%surf, prm%h, prm%eta2, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
+      call pairs(n, g, w%nb, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+                 p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
                  prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
       ! gravity on the owned particles only: the pair sums of the halo
       ! copies are added to their owners afterwards (comm_halo_reverse)
@@ -207,80 +228,131 @@ contains
       call comm_halo_forward(tau, p%n_own)
    end subroutine sps_stress
 
-#define PAIRS_NAME pairs_b1_v1_d0_g0
+! the variants: over the grid's stencil (s) without a pass before the forces, over the pair list (l) with one
+#define PAIRS_NAME pairs_s_b1_k1_d0
+#define LIST 0
 #define BC 1
+#define KERN 1
 #define VISC 1
 #define DIFF 0
 #define KGC 0
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_b1_v2_d0_g0
+#define PAIRS_NAME pairs_s_b1_k1_d1
+#define LIST 0
 #define BC 1
-#define VISC 2
-#define DIFF 0
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_v1_d1_g0
-#define BC 1
+#define KERN 1
 #define VISC 1
 #define DIFF 1
 #define KGC 0
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_b1_v2_d1_g0
-#define BC 1
-#define VISC 2
-#define DIFF 1
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_v1_d0_g1
-#define BC 1
-#define VISC 1
-#define DIFF 0
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_v2_d0_g1
-#define BC 1
-#define VISC 2
-#define DIFF 0
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_v1_d1_g1
-#define BC 1
-#define VISC 1
-#define DIFF 1
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b1_v2_d1_g1
-#define BC 1
-#define VISC 2
-#define DIFF 1
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_b2_v1_d0_g0
+#define PAIRS_NAME pairs_s_b2_k1
+#define LIST 0
 #define BC 2
+#define KERN 1
 #define VISC 1
 #define DIFF 0
 #define KGC 0
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_pairs.inc"
 
-#define PAIRS_NAME pairs_b2_v2_d0_g0
+#define PAIRS_NAME pairs_s_b1_k2_d0
+#define LIST 0
+#define BC 1
+#define KERN 2
+#define VISC 1
+#define DIFF 0
+#define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_s_b1_k2_d1
+#define LIST 0
+#define BC 1
+#define KERN 2
+#define VISC 1
+#define DIFF 1
+#define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_s_b2_k2
+#define LIST 0
 #define BC 2
+#define KERN 2
+#define VISC 1
+#define DIFF 0
+#define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_l_b1_v2_d0_g0
+#define LIST 1
+#define BC 1
+#define KERN 0
+#define VISC 2
+#define DIFF 0
+#define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_l_b1_v2_d1_g0
+#define LIST 1
+#define BC 1
+#define KERN 0
+#define VISC 2
+#define DIFF 1
+#define KGC 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_l_b1_v1_d0_g1
+#define LIST 1
+#define BC 1
+#define KERN 0
+#define VISC 1
+#define DIFF 0
+#define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_l_b1_v2_d0_g1
+#define LIST 1
+#define BC 1
+#define KERN 0
+#define VISC 2
+#define DIFF 0
+#define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_l_b1_v1_d1_g1
+#define LIST 1
+#define BC 1
+#define KERN 0
+#define VISC 1
+#define DIFF 1
+#define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_l_b1_v2_d1_g1
+#define LIST 1
+#define BC 1
+#define KERN 0
+#define VISC 2
+#define DIFF 1
+#define KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_pairs.inc"
+
+#define PAIRS_NAME pairs_l_b2_v2_d0_g0
+#define LIST 1
+#define BC 2
+#define KERN 0
 #define VISC 2
 #define DIFF 0
 #define KGC 0

@@ -1,9 +1,9 @@
-!> Neighbour grid: cells 2h wide and 2h/reach tall (reach = 2: the stencil
-!> reaches two cells up and down), numbered column by column (y fastest), with
-!> reach empty ghost rows below and above every column. Cells shorter than the
-!> support leave fewer candidates beyond 2h in the stencil: its area is
-!> 12 h^2 + 6 h^2/reach against 2 pi h^2 for the half support (18 h^2 with
-!> square cells, 15 h^2 with reach 2). A rank
+!> Neighbour grid: cells 2h wide and 2h/reach tall (reach 1, square cells,
+!> by default; with reach 2 the stencil reaches two cells up and down),
+!> numbered column by column (y fastest), with reach empty ghost rows below and
+!> above every column. Shorter cells leave fewer candidates beyond 2h in the
+!> stencil (its area is 12 h^2 + 6 h^2/reach against 2 pi h^2 for the half
+!> support), but reach 2 measured no gain (doc/performance.md). A rank
 !> holds the columns of its slab of the domain (all of them on one rank),
 !> an empty ghost column on the left, and on the right either an empty
 !> ghost column or the halo: the first column of the next rank's slab.

@@ -7,7 +7,7 @@ module logger
    use comm, only: comm_rank
    implicit none
    private
-   public :: log_open, log_close, log_line, log_error, log_progress, log_is_open
+   public :: log_open, log_close, log_line, log_error, log_progress
 
    integer :: log_unit = 0
    logical :: log_opened = .false.   !< newunit= numbers are negative: keep a flag
@@ -92,9 +92,6 @@ contains
       yes = index(target, '/dev/pts/') == 1 .or. index(target, '/dev/tty') == 1
    end function stdout_is_terminal
 
-   logical function log_is_open()
-      log_is_open = log_opened
-   end function log_is_open
 
    subroutine log_close()
       if (log_opened) close (log_unit)

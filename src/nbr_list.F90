@@ -48,8 +48,9 @@ contains
          deallocate (nb%first)
          allocate (nb%first(n + 1))
       end if
-      ! a first guess of the size: about 16 pairs a particle at h = 1.6 dp
-      if (.not. allocated(nb%j)) allocate (nb%j(max(20*n, 1024)), nb%f(max(20*n, 1024)))
+      ! a first guess of the size (13 pairs a particle at h = sqrt(2) dp, 16 at
+      ! 1.6 dp): grown by a quarter when short, so that it stays close to the need
+      if (.not. allocated(nb%j)) allocate (nb%j(max(8*n, 1024)), nb%f(max(8*n, 1024)))
       nb%n = n
       m = 0
       ! particles before the first stencil cell (the empty left ghost column) have no pairs
@@ -102,7 +103,7 @@ contains
       integer, allocatable :: jn(:)
       real(rp), allocatable :: fn(:)
       integer :: cap
-      cap = max(need, 2*size(nb%j))
+      cap = max(need, size(nb%j) + size(nb%j)/4)
       allocate (jn(cap), fn(cap))
       jn(1:size(nb%j)) = nb%j
       fn(1:size(nb%f)) = nb%f

@@ -7,7 +7,7 @@ module timers
    use kinds, only: rp, i8
    implicit none
    private
-   public :: timer_start, timer_stop, timer_get, timer_reset, n_timers, timer_label, &
+   public :: timer_start, timer_stop, timer_get, n_timers, timer_label, &
              t_grid, t_pairs, t_bodies, t_integrate, t_output, t_comm, t_setup
 
    integer, parameter :: t_setup = 1, t_grid = 2, t_pairs = 3, t_bodies = 4, &
@@ -67,7 +67,4 @@ contains
       s = labels(id)
    end function timer_label
 
-   subroutine timer_reset()
-      acc = 0.0_rp
-   end subroutine timer_reset
 end module timers
