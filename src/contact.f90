@@ -13,15 +13,13 @@ module contact
    use body_dynamics, only: body_t, motion_floating, motion_fixed, body_of, bodies_damping_reset, bodies_damping_add
    use input_body, only: contact_cfg
    use kernel, only: kernel_gradw
+   use options, only: option_index, contact_names, model_dynamic, model_repulsive, model_noncohesive, &
+                      model_spring, model_hertz
    use comm, only: comm_size, comm_allgatherv
    implicit none
    private
    public :: contact_t, contact_init, contact_forces, contact_memory_advance, contact_memory_get, &
-             contact_memory_set, model_dynamic, model_repulsive, model_noncohesive, &
-             model_spring, model_hertz
-
-   integer, parameter :: model_dynamic = 1, model_repulsive = 2, model_noncohesive = 3, model_spring = 4, &
-                         model_hertz = 5
+             contact_memory_set
 
    type :: contact_t
       integer :: model = model_spring
@@ -64,19 +62,14 @@ module contact
 
 contains
 
-   subroutine contact_init(cfg, prm, coef, ct)
+   subroutine contact_init(file, cfg, prm, coef, ct)
+      character(len=*), intent(in) :: file   !< the case file, for the message of a bad model name
       type(contact_cfg), intent(in) :: cfg
       type(params_t), intent(in) :: prm
       real(rp), intent(in) :: coef
       type(contact_t), intent(out) :: ct
       real(rp) :: b
-      select case (trim(cfg%model))
-      case ('dynamic'); ct%model = model_dynamic
-      case ('repulsive'); ct%model = model_repulsive
-      case ('noncohesive'); ct%model = model_noncohesive
-      case ('hertz'); ct%model = model_hertz
-      case default; ct%model = model_spring
-      end select
+      ct%model = option_index(file, 'contact', 'model', cfg%model, contact_names)
       b = cfg%b
       if (b <= 0.0_rp) b = coef
       ct%k10b2 = (10.0_rp/b)**2
@@ -243,8 +236,9 @@ contains
             call pair_dynamic(i, j, bi, bj, d)
          case (model_hertz)
             call pair_hertz(i, j, bi, bj, d, r2)
-         case default
+         case (model_repulsive, model_noncohesive, model_spring)
             call pair_eq(i, j, bi, bj, d)
+         case default  ! none: contact_init sets one of the five (options)
          end select
       end subroutine pair
 
@@ -749,6 +743,7 @@ contains
    pure real(rp) function coefficient_a(ct, ul, h) result(a)
       type(contact_t), intent(in) :: ct
       real(rp), intent(in) :: ul, h
+      a = 0.0_rp
       select case (ct%model)
       case (model_repulsive)                       ! Eq. 4: attractive once u_L > 0.005 c
          if (ul > 0.0_rp) then
@@ -759,13 +754,14 @@ contains
       case (model_noncohesive)                     ! Eq. 5
          a = 0.0_rp
          if (ul <= 0.0_rp) a = -ct%k10b2*ct%r_f*ct%c*ul/h
-      case default                                 ! Eq. 6
+      case (model_spring)                          ! Eq. 6
          ! as Eq. 6 when approaching; when receding, the same expression held
          ! at zero or above: the spring fades out over 0 < u_L < 0.005 c / r_f
          ! instead of dropping at once. Continuous in u_L, never attractive;
          ! over a rolling contact the damping of the approaching and the
          ! receding particles cancels, so rolling meets no resistance.
          a = ct%k10b2*max(0.005_rp*ct%c**2 - ct%r_f*ct%c*ul, 0.0_rp)/h
+      case default  ! none: the dynamic and Hertz models do not use A
       end select
    end function coefficient_a
 

@@ -38,17 +38,18 @@ contains
    !> The dynamic part of the density of particles 1..n (Fourtakas et al. 2019):
    !> rho minus the density of water at rest at their depth below y_surface. One
    !> loop here, where the compiler sees the power and vectorises it.
-   subroutine eos_dynamic_density(prm, n, rho, x, rhod)
+   subroutine eos_dynamic_density(prm, n, rho, y, rhod)
       type(params_t), intent(in) :: prm
       integer, intent(in) :: n
-      real(rp), intent(in) :: rho(:), x(:, :)
-      real(rp), intent(out) :: rhod(:)
+      ! explicit shapes: contiguous arrays, so that the loop runs four particles at a time
+      real(rp), intent(in) :: rho(n), y(n)
+      real(rp), intent(out) :: rhod(n)
       integer :: i
       real(rp) :: k, e
       k = prm%rho0*prm%g/prm%b
       e = 1.0_rp/prm%gamma
       do i = 1, n
-         rhod(i) = rho(i) - prm%rho0*max(1.0_rp + k*(prm%y_surface - x(2, i)), 0.5_rp)**e
+         rhod(i) = rho(i) - prm%rho0*max(1.0_rp + k*(prm%y_surface - y(i)), 0.5_rp)**e
       end do
    end subroutine eos_dynamic_density
 

@@ -147,7 +147,7 @@ contains
       call ensure(w, size(p%rho), prm)
       call eos_update(prm, n, p%rho, p%p, w%cs)
       if (prm%diffusion == diff_fourtakas) then
-         call eos_dynamic_density(prm, n, p%rho, p%x, w%rhod)
+         call eos_dynamic_density(prm, n, p%rho, p%x(2, 1:n), w%rhod)
       else if (prm%diffusion /= diff_none) then
          w%rhod(1:n) = p%rho(1:n)
       end if

@@ -1,9 +1,9 @@
-!> Neighbour grid: cells 2h wide and 2h/reach tall (reach 1, square cells,
-!> by default; with reach 2 the stencil reaches two cells up and down),
-!> numbered column by column (y fastest), with reach empty ghost rows below and
-!> above every column. Shorter cells leave fewer candidates beyond 2h in the
-!> stencil (its area is 12 h^2 + 6 h^2/reach against 2 pi h^2 for the half
-!> support), but reach 2 measured no gain (doc/performance.md). A rank
+!> Neighbour grid: cells 2h wide and 2h/reach tall (reach = 4: the stencil
+!> reaches four cells up and down), numbered column by column (y fastest),
+!> with reach empty ghost rows below and above every column. Shorter cells
+!> leave fewer candidates beyond 2h in the stencil: its area is
+!> 12 h^2 + 6 h^2/reach against 2 pi h^2 for the half support (18 h^2 with
+!> square cells, 13.5 h^2 with reach 4; doc/performance.md). A rank
 !> holds the columns of its slab of the domain (all of them on one rank),
 !> an empty ghost column on the left, and on the right either an empty
 !> ghost column or the halo: the first column of the next rank's slab.
@@ -24,7 +24,7 @@ module grid
       real(rp) :: x0, y0          !< lower-left corner of the domain [m]
       real(rp) :: cs              !< cell width = 2h [m]
       real(rp) :: csy             !< cell height = cs/reach [m]
-      integer :: reach = 1        !< cell rows the stencil reaches up and down; ghost rows per column end
+      integer :: reach = 4        !< cell rows the stencil reaches up and down; ghost rows per column end
       integer :: ncx_all          !< cell columns over the whole domain
       integer :: col0             !< first column of this rank's slab (0-based, global)
       integer :: ncol, ncy        !< cell columns of this rank's slab; cell rows

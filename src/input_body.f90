@@ -7,6 +7,7 @@ module input_body
                           int_str, real_str
    use errors, only: input_error
    use geom, only: polygon_area, polygon_self_intersects
+   use options, only: contact_names
    implicit none
    private
    public :: body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact, body_max_vert
@@ -217,8 +218,7 @@ contains
       end if
       c%model = model; c%r_f = r_f; c%b = b; c%c0 = c0; c%q0 = q0; c%stick_velocity = stick_velocity
       c%impact = impact; c%barrier = barrier; c%stick_length = stick_length
-      call check_choice(file, 'contact', 'model', c%model, [character(len=name_len) :: 'dynamic', 'repulsive', &
-                                                           'noncohesive', 'noncohesive_spring', 'hertz'])
+      call check_choice(file, 'contact', 'model', c%model, contact_names)
       call check_real(file, 'contact', 'r_f', c%r_f, 0.0_rp, 1.0e3_rp)
       call check_real(file, 'contact', 'b', c%b, 0.0_rp, 100.0_rp)
       call check_real(file, 'contact', 'c0', c%c0, 0.0_rp, 1.0e4_rp)

@@ -3,6 +3,7 @@ module input_numerics
    use kinds, only: rp
    use constants, only: name_len, msg_len
    use input_check, only: open_case, read_failed, check_real, check_int, check_choice, group_count
+   use options, only: kernel_names, integ_names, visc_names, bnd_names, diff_names, kgc_names
    use errors, only: input_error
    implicit none
    private
@@ -75,30 +76,26 @@ contains
       if (c%dp <= d%dp) call input_error(file, 'numerics', 'dp', 'is required (particle spacing in m, > 0)')
       call check_real(file, 'numerics', 'dp', c%dp, 0.0_rp, 1.0e3_rp, lo_open=.true.)
       call check_real(file, 'numerics', 'h_over_dp', c%h_over_dp, 1.0_rp, 2.0_rp)
-      call check_choice(file, 'numerics', 'kernel', c%kernel, [character(len=name_len) :: 'wendland', 'cubic'])
+      call check_choice(file, 'numerics', 'kernel', c%kernel, kernel_names)
       call check_real(file, 'numerics', 'cfl', c%cfl, 0.0_rp, 0.5_rp, lo_open=.true.)
       call check_real(file, 'numerics', 'dt_fixed', c%dt_fixed, 0.0_rp, 1.0e3_rp)
-      call check_choice(file, 'numerics', 'integrator', c%integrator, &
-                        [character(len=name_len) :: 'symplectic', 'predictor_corrector', 'verlet'])
+      call check_choice(file, 'numerics', 'integrator', c%integrator, integ_names)
       call check_int(file, 'numerics', 'verlet_every', c%verlet_every, 1, 1000)
-      call check_choice(file, 'numerics', 'viscosity', c%viscosity, &
-                        [character(len=name_len) :: 'artificial', 'laminar_sps'])
+      call check_choice(file, 'numerics', 'viscosity', c%viscosity, visc_names)
       call check_real(file, 'numerics', 'alpha', c%alpha, 0.0_rp, 1.0_rp)
       call check_real(file, 'numerics', 'nu', c%nu, 0.0_rp, 1.0_rp)
       call check_real(file, 'numerics', 'cs_sps', c%cs_sps, 0.0_rp, 1.0_rp)
       call check_real(file, 'numerics', 'ci_sps', c%ci_sps, 0.0_rp, 1.0_rp)
-      call check_choice(file, 'numerics', 'boundary', c%boundary, [character(len=name_len) :: 'dynamic', 'repulsive'])
+      call check_choice(file, 'numerics', 'boundary', c%boundary, bnd_names)
       if (len_trim(c%diffusion) == 0) c%diffusion = merge('none     ', 'fourtakas', c%boundary == 'repulsive')
-      call check_choice(file, 'numerics', 'diffusion', c%diffusion, &
-                        [character(len=name_len) :: 'none', 'molteni', 'fourtakas'])
+      call check_choice(file, 'numerics', 'diffusion', c%diffusion, diff_names)
       ! next to a repulsive wall the water needs a density above the
       ! hydrostatic one (the wall lends it no pressure); diffusion removes it
       ! and drives a current along the wall (doc/theory.md)
       if (c%boundary == 'repulsive' .and. c%diffusion /= 'none') call input_error(file, 'numerics', 'diffusion', &
          "must be 'none' with boundary = 'repulsive' (got '"//trim(c%diffusion)//"')")
       call check_real(file, 'numerics', 'delta', c%delta, 0.0_rp, 1.0_rp)
-      call check_choice(file, 'numerics', 'kernel_correction', c%kernel_correction, &
-                        [character(len=name_len) :: 'none', 'gradient', 'shepard'])
+      call check_choice(file, 'numerics', 'kernel_correction', c%kernel_correction, kgc_names)
       call check_int(file, 'numerics', 'shepard_every', c%shepard_every, 1, 100000)
       if (.not. c%kgc_continuity .and. c%kernel_correction /= 'gradient') call input_error(file, 'numerics', &
          'kgc_continuity', ".false. needs kernel_correction = 'gradient' (got '"//trim(c%kernel_correction)//"')")

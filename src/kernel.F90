@@ -3,25 +3,15 @@
 module kernel
    use kinds, only: rp
    use constants, only: pi
+   use options, only: kernel_wendland, kernel_cubic
    implicit none
    private
-   public :: kernel_wendland, kernel_cubic, kernel_id, kernel_norm, kernel_w, kernel_f, kernel_gradw
-
-   integer, parameter :: kernel_wendland = 1, kernel_cubic = 2
+   public :: kernel_wendland, kernel_cubic, kernel_norm, kernel_w, kernel_f, kernel_gradw
 
 contains
 
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "kernel_formulas.inc"
-
-   !> Kernel number from its namelist name.
-   integer function kernel_id(name)
-      character(len=*), intent(in) :: name
-      select case (trim(name))
-      case ('cubic'); kernel_id = kernel_cubic
-      case default; kernel_id = kernel_wendland
-      end select
-   end function kernel_id
 
    !> 2D normalisation aw (W = aw w(q)).
    pure real(rp) function kernel_norm(k, h) result(aw)

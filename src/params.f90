@@ -3,18 +3,19 @@ module params
    use kinds, only: rp
    use constants, only: name_len
    use input, only: case_cfg
-   use kernel, only: kernel_id, kernel_norm, kernel_wendland
+   use kernel, only: kernel_norm
+   use options, only: option_index, kernel_names, kernel_wendland, visc_names, visc_artificial, visc_laminar_sps, &
+                      diff_names, diff_none, diff_molteni, diff_fourtakas, kgc_names, kgc_none, kgc_gradient, &
+                      kgc_shepard, integ_names, integ_symplectic, integ_predictor_corrector, integ_verlet, &
+                      bnd_names, bnd_dynamic, bnd_repulsive
    implicit none
    private
    public :: params_t, params_init, visc_artificial, visc_laminar_sps, diff_none, diff_molteni, &
              diff_fourtakas, kgc_none, kgc_gradient, kgc_shepard, integ_symplectic, &
              integ_predictor_corrector, integ_verlet, bnd_dynamic, bnd_repulsive
 
-   integer, parameter :: visc_artificial = 1, visc_laminar_sps = 2
-   integer, parameter :: diff_none = 0, diff_molteni = 1, diff_fourtakas = 2
-   integer, parameter :: kgc_none = 0, kgc_gradient = 1, kgc_shepard = 2
-   integer, parameter :: integ_symplectic = 1, integ_predictor_corrector = 2, integ_verlet = 3
-   integer, parameter :: bnd_dynamic = 1, bnd_repulsive = 2
+   ! the enumerated values of the model choices are those of module options,
+   ! where the names are turned into them; re-exported here for the solver
 
    type :: params_t
       real(rp) :: dp, h, h2, support2      !< spacing, smoothing length, h^2, (2h)^2
@@ -61,7 +62,7 @@ contains
       prm%h2 = prm%h*prm%h
       prm%support2 = 4.0_rp*prm%h2
       prm%eta2 = 0.01_rp*prm%h2
-      prm%kernel = kernel_id(c%numerics%kernel)
+      prm%kernel = option_index(c%file, 'numerics', 'kernel', c%numerics%kernel, kernel_names)
       prm%aw = kernel_norm(prm%kernel, prm%h)
       prm%fw = prm%aw/prm%h2
       prm%w0 = prm%aw                      ! both kernels have w(0) = 1
@@ -85,37 +86,19 @@ contains
       prm%rho_max = c%fluid%rho_max*prm%rho0
       prm%cfl = c%numerics%cfl
       prm%dt_fixed = c%numerics%dt_fixed
-      select case (trim(c%numerics%viscosity))
-      case ('laminar_sps'); prm%visc = visc_laminar_sps
-      case default; prm%visc = visc_artificial
-      end select
+      prm%visc = option_index(c%file, 'numerics', 'viscosity', c%numerics%viscosity, visc_names)
       prm%alpha = c%numerics%alpha
       prm%nu = c%numerics%nu
       prm%sps_smag = (c%numerics%cs_sps*prm%dp)**2
       prm%sps_blin = (2.0_rp/3.0_rp)*c%numerics%ci_sps*prm%dp**2
-      select case (trim(c%numerics%diffusion))
-      case ('molteni'); prm%diffusion = diff_molteni
-      case ('fourtakas'); prm%diffusion = diff_fourtakas
-      case default; prm%diffusion = diff_none
-      end select
+      prm%diffusion = option_index(c%file, 'numerics', 'diffusion', c%numerics%diffusion, diff_names)
       prm%delta_coef = c%numerics%delta*prm%h*prm%c0
-      select case (trim(c%numerics%kernel_correction))
-      case ('gradient'); prm%kgc = kgc_gradient
-      case ('shepard'); prm%kgc = kgc_shepard
-      case default; prm%kgc = kgc_none
-      end select
+      prm%kgc = option_index(c%file, 'numerics', 'kernel_correction', c%numerics%kernel_correction, kgc_names)
       prm%shepard_every = c%numerics%shepard_every
       prm%kgc_cont = merge(1.0_rp, 0.0_rp, c%numerics%kgc_continuity)
-      select case (trim(c%numerics%integrator))
-      case ('verlet'); prm%integrator = integ_verlet
-      case ('predictor_corrector'); prm%integrator = integ_predictor_corrector
-      case default; prm%integrator = integ_symplectic
-      end select
+      prm%integrator = option_index(c%file, 'numerics', 'integrator', c%numerics%integrator, integ_names)
       prm%verlet_every = c%numerics%verlet_every
-      select case (trim(c%numerics%boundary))
-      case ('repulsive'); prm%boundary = bnd_repulsive
-      case default; prm%boundary = bnd_dynamic
-      end select
+      prm%boundary = option_index(c%file, 'numerics', 'boundary', c%numerics%boundary, bnd_names)
       prm%rep_a = (10.0_rp/c%fluid%coef)**2*0.01_rp*prm%c0**2/prm%h
       prm%rep_b = (10.0_rp/c%fluid%coef)*prm%c0/prm%h
       prm%rep_u = 40.0_rp/prm%c0

@@ -163,7 +163,7 @@ contains
       call decompose(counts, edges)
       call forces_init(prm)
       if (size(bodies) > 0) then
-         call contact_init(c%contact, prm, c%fluid%coef, ct)
+         call contact_init(c%file, c%contact, prm, c%fluid%coef, ct)
          if (c%run%restart) call contact_memory_set(ct, nint(mem(1:2, :)), mem(3:4, :))
          if (comm_rank() == 0) call bodies_csv_open(out, c%run%restart, st%t)
       end if

@@ -8,7 +8,7 @@
 module step
    use kinds, only: rp
    use constants, only: kind_fluid, kind_moving
-   use params, only: params_t, integ_predictor_corrector, integ_verlet, visc_laminar_sps
+   use params, only: params_t, integ_symplectic, integ_predictor_corrector, integ_verlet, visc_laminar_sps
    use grid, only: grid_t
    use particles, only: particles_t
    use fluid_forces, only: forces_work_t, forces_compute
@@ -20,6 +20,8 @@ module step
                             bodies_sum_ranks, bodies_prescribe
    use contact, only: contact_t, contact_forces
    use comm, only: comm_max
+   use errors, only: fatal
+   use input_check, only: int_str
    use comm_halo, only: comm_halo_reverse, comm_halo_refresh
    implicit none
    private
@@ -53,8 +55,10 @@ contains
       select case (prm%integrator)
       case (integ_verlet)
          call verlet(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
-      case default
+      case (integ_symplectic, integ_predictor_corrector)
          call two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+      case default  ! none: params sets one of the three (options)
+         call fatal('internal error: integrator '//int_str(prm%integrator)//' has no scheme')
       end select
       if (dt <= dt_limit .or. prm%dt_fixed <= 0.0_rp) dt_prev = dt
    end subroutine step_advance

@@ -1,0 +1,73 @@
+!> Every model choice of a case file, in one place: for each option the names
+!> a user may write and the enumerated values the code works with, the value
+!> being the position of the name in its list. Input readers validate against
+!> these lists, and option_index is the one routine that turns a name into its
+!> value: a name not in the list is an input error that names the file, the
+!> group, the variable and the allowed values, never a silent default.
+module options
+   use constants, only: name_len
+   use input_check, only: lower
+   use errors, only: input_error
+   implicit none
+   private
+   public :: option_index, option_list
+   public :: kernel_names, kernel_wendland, kernel_cubic
+   public :: visc_names, visc_artificial, visc_laminar_sps
+   public :: diff_names, diff_none, diff_molteni, diff_fourtakas
+   public :: kgc_names, kgc_none, kgc_gradient, kgc_shepard
+   public :: integ_names, integ_symplectic, integ_predictor_corrector, integ_verlet
+   public :: bnd_names, bnd_dynamic, bnd_repulsive
+   public :: contact_names, model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
+
+   !> &numerics kernel
+   character(len=name_len), parameter :: kernel_names(2) = [character(len=name_len) :: 'wendland', 'cubic']
+   integer, parameter :: kernel_wendland = 1, kernel_cubic = 2
+   !> &numerics viscosity
+   character(len=name_len), parameter :: visc_names(2) = [character(len=name_len) :: 'artificial', 'laminar_sps']
+   integer, parameter :: visc_artificial = 1, visc_laminar_sps = 2
+   !> &numerics diffusion
+   character(len=name_len), parameter :: diff_names(3) = [character(len=name_len) :: 'none', 'molteni', 'fourtakas']
+   integer, parameter :: diff_none = 1, diff_molteni = 2, diff_fourtakas = 3
+   !> &numerics kernel_correction
+   character(len=name_len), parameter :: kgc_names(3) = [character(len=name_len) :: 'none', 'gradient', 'shepard']
+   integer, parameter :: kgc_none = 1, kgc_gradient = 2, kgc_shepard = 3
+   !> &numerics integrator
+   character(len=name_len), parameter :: integ_names(3) = [character(len=name_len) :: 'symplectic', &
+                                                           'predictor_corrector', 'verlet']
+   integer, parameter :: integ_symplectic = 1, integ_predictor_corrector = 2, integ_verlet = 3
+   !> &numerics boundary
+   character(len=name_len), parameter :: bnd_names(2) = [character(len=name_len) :: 'dynamic', 'repulsive']
+   integer, parameter :: bnd_dynamic = 1, bnd_repulsive = 2
+   !> &contact model
+   character(len=name_len), parameter :: contact_names(5) = [character(len=name_len) :: 'dynamic', 'repulsive', &
+                                                             'noncohesive', 'noncohesive_spring', 'hertz']
+   integer, parameter :: model_dynamic = 1, model_repulsive = 2, model_noncohesive = 3, model_spring = 4, &
+                         model_hertz = 5
+
+contains
+
+   !> The value of the name value among names (its position); an input error
+   !> naming file, group, variable and the allowed names when it is none of them.
+   integer function option_index(file, group, var, value, names) result(k)
+      character(len=*), intent(in) :: file, group, var, value, names(:)
+      character(len=len(value)) :: v
+      v = lower(adjustl(value))
+      do k = 1, size(names)
+         if (trim(names(k)) == trim(v)) return
+      end do
+      k = 0
+      call input_error(file, group, var, "value '"//trim(v)//"' is not one of "//option_list(names))
+   end function option_index
+
+   !> 'a', 'b', 'c': the names as an error message lists them.
+   function option_list(names) result(s)
+      character(len=*), intent(in) :: names(:)
+      character(len=:), allocatable :: s
+      integer :: i
+      s = ''
+      do i = 1, size(names)
+         s = s//"'"//trim(names(i))//"'"
+         if (i < size(names)) s = s//', '
+      end do
+   end function option_list
+end module options
