@@ -92,7 +92,7 @@ contains
       integer :: k
       k = verify(trim(d), allowed)
       if (k > 0) call input_error(file, 'run', 'out_dir', "character '"//d(k:k)//"' at position "// &
-         int_str(k)//" is not allowed; use letters, digits and . _ - / + , = @ ~")
+         int_str(k)//' is not allowed; use letters, digits and . _ - / + , = @ ~')
       if (len_trim(d) > path_len - 64) call input_error(file, 'run', 'out_dir', 'longer than '// &
          int_str(path_len - 64)//' characters')
    end subroutine check_path

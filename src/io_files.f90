@@ -13,6 +13,8 @@ module io_files
       !> POSIX mkdir(2); mode_t is an unsigned 32-bit integer on Linux
       integer(c_int) function c_mkdir(path, mode) bind(C, name='mkdir')
          import :: c_int, c_char
+         implicit none
+         ! allow(assumed-size): a C string, null-terminated
          character(kind=c_char), dimension(*), intent(in) :: path
          integer(c_int), value, intent(in) :: mode
       end function c_mkdir

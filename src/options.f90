@@ -20,26 +20,26 @@ module options
    public :: contact_names, model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
 
    !> &numerics kernel
-   character(len=name_len), parameter :: kernel_names(2) = [character(len=name_len) :: 'wendland', 'cubic']
+   character(len=name_len), parameter :: kernel_names(*) = [character(len=name_len) :: 'wendland', 'cubic']
    integer, parameter :: kernel_wendland = 1, kernel_cubic = 2
    !> &numerics viscosity
-   character(len=name_len), parameter :: visc_names(2) = [character(len=name_len) :: 'artificial', 'laminar_sps']
+   character(len=name_len), parameter :: visc_names(*) = [character(len=name_len) :: 'artificial', 'laminar_sps']
    integer, parameter :: visc_artificial = 1, visc_laminar_sps = 2
    !> &numerics diffusion
-   character(len=name_len), parameter :: diff_names(3) = [character(len=name_len) :: 'none', 'molteni', 'fourtakas']
+   character(len=name_len), parameter :: diff_names(*) = [character(len=name_len) :: 'none', 'molteni', 'fourtakas']
    integer, parameter :: diff_none = 1, diff_molteni = 2, diff_fourtakas = 3
    !> &numerics kernel_correction
-   character(len=name_len), parameter :: kgc_names(3) = [character(len=name_len) :: 'none', 'gradient', 'shepard']
+   character(len=name_len), parameter :: kgc_names(*) = [character(len=name_len) :: 'none', 'gradient', 'shepard']
    integer, parameter :: kgc_none = 1, kgc_gradient = 2, kgc_shepard = 3
    !> &numerics integrator
-   character(len=name_len), parameter :: integ_names(3) = [character(len=name_len) :: 'symplectic', &
+   character(len=name_len), parameter :: integ_names(*) = [character(len=name_len) :: 'symplectic', &
                                                            'predictor_corrector', 'verlet']
    integer, parameter :: integ_symplectic = 1, integ_predictor_corrector = 2, integ_verlet = 3
    !> &numerics boundary
-   character(len=name_len), parameter :: bnd_names(2) = [character(len=name_len) :: 'dynamic', 'repulsive']
+   character(len=name_len), parameter :: bnd_names(*) = [character(len=name_len) :: 'dynamic', 'repulsive']
    integer, parameter :: bnd_dynamic = 1, bnd_repulsive = 2
    !> &contact model
-   character(len=name_len), parameter :: contact_names(5) = [character(len=name_len) :: 'dynamic', 'repulsive', &
+   character(len=name_len), parameter :: contact_names(*) = [character(len=name_len) :: 'dynamic', 'repulsive', &
                                                              'noncohesive', 'noncohesive_spring', 'hertz']
    integer, parameter :: model_dynamic = 1, model_repulsive = 2, model_noncohesive = 3, model_spring = 4, &
                          model_hertz = 5
