@@ -18,12 +18,14 @@ maximum relative error of the run over ``1 <= T <= 3`` is printed.
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import NamedTuple, Sequence
 
 import numpy as np
 
 from .io import Snapshot, fluid_box, list_snapshots, read_case, read_snapshot
+from .cli import message
 from .plotting import Figure, plt, save_figure
 
 __all__ = [
@@ -182,7 +184,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         a, x_wall = _geometry(args.out_dir, args.a, args.x_wall)
     except (ValueError, FileNotFoundError) as err:
-        parser.error(str(err))
+        # one line, as every post tool (post.cli), and exit code 2
+        print(f"{parser.prog}: error: {message(err)}", file=sys.stderr)
+        raise SystemExit(2) from err
     result = compare(args.out_dir, a, x_wall)
     print(f"a = {a:g} m, x_wall = {x_wall:g} m")
     print(f"{'T':>8} {'Z_sim':>8} {'Z_exp':>8}")
@@ -205,4 +209,5 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from post.cli import run
+    raise SystemExit(run(main, "python -m post.dambreak"))

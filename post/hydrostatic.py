@@ -94,13 +94,13 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     paths = list_snapshots(args.out_dir) if args.time is None else closest_snapshots(args.out_dir, [args.time])
     if not paths:
-        parser.error(f"no snapshot in {args.out_dir}")
+        raise FileNotFoundError(f"no snapshot snap_NNNNN.h5 in {args.out_dir}")
     snap = read_snapshot(paths[-1])
     depth = args.depth
     if depth is None:
         depth = float(free_surface_height(snap, args.x)) - args.y_bed
         if not np.isfinite(depth):
-            parser.error(f"no water at x = {args.x}")
+            raise ValueError(f"no water at x = {args.x} in {args.out_dir}")
     ys = sample_heights(snap, args.y_bed, depth)
     p = profile(snap, args.x, ys)
     rho_g = snap.rho0 * snap.g
@@ -120,4 +120,5 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from post.cli import run
+    raise SystemExit(run(main, "python -m post.hydrostatic"))

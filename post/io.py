@@ -130,7 +130,7 @@ def list_snapshots(out_dir: str | Path) -> list[Path]:
 def read_snapshot(path: str | Path) -> Snapshot:
     """Read one snapshot file into a :class:`Snapshot`, particles in id order."""
     path = Path(path)
-    with h5py.File(path, "r") as f:
+    with _open_h5(path) as f:
         data = {
             name: f[name][()]
             for name in ("position", "velocity", "density", "pressure", "mass", "kind", "body", "id")
@@ -166,9 +166,20 @@ def read_snapshot(path: str | Path) -> Snapshot:
     )
 
 
+def _open_h5(path: Path) -> h5py.File:
+    """An HDF5 file open for reading; a file cut short (a run stopped while writing it) or
+    not HDF5 at all is an OSError that names it (post.cli turns it into one line)."""
+    try:
+        return h5py.File(path, "r")
+    except OSError as exc:
+        if getattr(exc, "filename", None):
+            raise
+        raise OSError(0, f"not a whole HDF5 file ({exc})", str(path)) from exc
+
+
 def snapshot_time(path: str | Path) -> float:
     """Return the ``time`` attribute of a snapshot without reading its particle data."""
-    with h5py.File(path, "r") as f:
+    with _open_h5(Path(path)) as f:
         return float(_number(f.attrs["time"]))
 
 

@@ -147,4 +147,5 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from post.cli import run
+    raise SystemExit(run(main, "python -m post.paper_cases"))

@@ -366,6 +366,8 @@ def main(argv=None) -> int:
     ap.add_argument("--table", type=Path, default=None)
     args = ap.parse_args(argv)
     runs = [r for r in sorted(args.runs) if (r / "case.nml").is_file()]
+    if not runs:
+        raise FileNotFoundError(2, "no such file", str(args.runs[0] / "case.nml"))
     for r in [r for r in runs if source_of(r) is None]:
         print(f"{r.name}: skipped: the case file it came from is gone")
     runs = [r for r in runs if source_of(r) is not None]
@@ -406,4 +408,5 @@ machine. A coarse subset (shorter or coarser runs, the same bars) runs in `make 
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from post.cli import run
+    raise SystemExit(run(main, "python -m post.stability"))

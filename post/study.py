@@ -693,4 +693,5 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from post.cli import run
+    raise SystemExit(run(main, "python -m post.study"))

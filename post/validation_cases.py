@@ -322,4 +322,5 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from post.cli import run
+    raise SystemExit(run(main, "python -m post.validation_cases"))

@@ -457,3 +457,52 @@ def test_hydrostatic_cli(tank: Path, capsys: pytest.CaptureFixture[str]) -> None
     assert hydrostatic.main([str(tank), "--x", "0.2", "--depth", "0.2", "--time", "0.05",
                              "--out", str(tank / "h.png")]) == 0
     assert "snap_00001.h5" in capsys.readouterr().out
+
+
+# ------------------------------------------------------------------- unreadable input
+
+ROOT_DIR = Path(__file__).resolve().parents[1]
+
+# each post tool with the arguments it needs besides the output folder
+POST_TOOLS = {
+    "armour": [], "waves": [], "plot_field": [], "dambreak": [], "stability": [],
+    "hydrostatic": ["--x", "0.1", "--depth", "0.1"],
+}
+
+
+def run_tool(tool: str, args: list[str]):
+    import subprocess
+    return subprocess.run([sys.executable, "-m", f"post.{tool}", *args], cwd=ROOT_DIR, capture_output=True,
+                          text=True, timeout=120, stdin=subprocess.DEVNULL)
+
+
+def assert_one_line_error(proc, tool: str, needle: str) -> None:
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert proc.returncode == 2, f"exit {proc.returncode}\n{proc.stderr}"
+    assert len(lines) == 1 and "Traceback" not in proc.stderr, proc.stderr
+    assert lines[0].startswith(f"python -m post.{tool}: error: "), lines[0]
+    assert needle in lines[0], f"the message should name {needle!r}: {lines[0]}"
+
+
+@pytest.mark.parametrize("tool", sorted(POST_TOOLS))
+def test_post_tool_on_missing_folder(tool: str, tmp_path: Path) -> None:
+    missing = tmp_path / "no_such_run"
+    proc = run_tool(tool, [str(missing), *POST_TOOLS[tool]])
+    assert_one_line_error(proc, tool, str(missing))
+
+
+@pytest.mark.parametrize("tool", sorted(POST_TOOLS))
+def test_post_tool_on_empty_folder(tool: str, tmp_path: Path) -> None:
+    proc = run_tool(tool, [str(tmp_path), *POST_TOOLS[tool]])
+    assert_one_line_error(proc, tool, str(tmp_path))
+
+
+def test_truncated_snapshot_is_named_not_plotted(tank: Path) -> None:
+    # a run stopped while writing its last snapshot: the tool names that file and draws nothing
+    last = sorted(tank.glob("snap_*.h5"))[-1]
+    data = last.read_bytes()
+    last.write_bytes(data[: len(data) // 3])
+    proc = run_tool("plot_field", [str(tank)])
+    assert_one_line_error(proc, "plot_field", last.name)
+    assert "truncated" in proc.stderr
+    assert not list(tank.glob("*.png"))
