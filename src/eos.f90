@@ -17,19 +17,15 @@ contains
       integer :: i
       real(rp) :: r, rg, inv_rho0
       inv_rho0 = 1.0_rp/prm%rho0
-      if (prm%igamma > 0) then
-         ! a whole gamma (water's 7): the power by multiplication, several times cheaper than pow
-         do i = 1, n
-            r = rho(i)*inv_rho0
-            rg = r**prm%igamma
-            p(i) = prm%b*(rg - 1.0_rp)
-            cs(i) = prm%c0*sqrt(rg/r)
-         end do
-         return
-      end if
       do i = 1, n
          r = rho(i)*inv_rho0
-         rg = r**prm%gamma
+         ! a whole gamma (water's 7): the power by multiplication, several times cheaper
+         ! than pow (the test is the same for every particle: the compiler takes it out)
+         if (prm%igamma > 0) then
+            rg = r**prm%igamma
+         else
+            rg = r**prm%gamma
+         end if
          p(i) = prm%b*(rg - 1.0_rp)
          cs(i) = prm%c0*sqrt(rg/r)
       end do
@@ -45,11 +41,8 @@ contains
       real(rp), intent(in) :: rho(n), y(n)
       real(rp), intent(out) :: rhod(n)
       integer :: i
-      real(rp) :: k, e
-      k = prm%rho0*prm%g/prm%b
-      e = 1.0_rp/prm%gamma
       do i = 1, n
-         rhod(i) = rho(i) - prm%rho0*max(1.0_rp + k*(prm%y_surface - y(i)), 0.5_rp)**e
+         rhod(i) = rho(i) - eos_density_at_depth(prm, prm%y_surface - y(i))
       end do
    end subroutine eos_dynamic_density
 

@@ -98,8 +98,8 @@ contains
    !> The half stencil of particle i of cell c: the later particles of c and
    !> those of the reach cells above it (jlo(1) .. jhi(1)), and those of the
    !> 2 reach + 1 cells of the next column around c (jlo(2) .. jhi(2)). Ghost
-   !> cells are empty, so no range needs a bounds test. The pair list builds
-   !> on this; the hot loop writes the same two ranges inline.
+   !> cells are empty, so no range needs a bounds test. Every pass over the
+   !> pairs (the pair list, the force loop, Shepard, contacts) takes its ranges here.
    pure subroutine grid_ranges(g, c, i, jlo, jhi)
       type(grid_t), intent(in) :: g
       integer, intent(in) :: c, i

@@ -53,8 +53,6 @@ contains
       if (.not. allocated(nb%j)) allocate (nb%j(max(8*n, 1024)), nb%f(max(8*n, 1024)))
       nb%n = n
       m = 0
-      ! particles before the first stencil cell (the empty left ghost column) have no pairs
-      nb%first(1:g%cstart(1)) = 1
       do c = 1, grid_last_cell(g)
          do i = g%cstart(c), g%cstart(c + 1) - 1
             nb%first(i) = m + 1
