@@ -15,11 +15,22 @@ contains
       real(rp), intent(in) :: rho(:)
       real(rp), intent(out) :: p(:), cs(:)
       integer :: i
-      real(rp) :: r, rg, inv_rho0
+      real(rp) :: r, r3, rg, inv_rho0
       inv_rho0 = 1.0_rp/prm%rho0
+      if (prm%igamma == 7) then
+         ! water's gamma: (rho/rho0)^7 by four products, and c = c0 (rho/rho0)^3
+         ! without the square root
+         do i = 1, n
+            r = rho(i)*inv_rho0
+            r3 = r*r*r
+            p(i) = prm%b*(r3*r3*r - 1.0_rp)
+            cs(i) = prm%c0*r3
+         end do
+         return
+      end if
       do i = 1, n
          r = rho(i)*inv_rho0
-         ! a whole gamma (water's 7): the power by multiplication, several times cheaper
+         ! another whole gamma: the power by multiplication, several times cheaper
          ! than pow (the test is the same for every particle: the compiler takes it out)
          if (prm%igamma > 0) then
             rg = r**prm%igamma
@@ -34,15 +45,15 @@ contains
    !> The dynamic part of the density of particles 1..n (Fourtakas et al. 2019):
    !> rho minus the density of water at rest at their depth below y_surface. One
    !> loop here, where the compiler sees the power and vectorises it.
-   subroutine eos_dynamic_density(prm, n, rho, y, rhod)
+   subroutine eos_dynamic_density(prm, n, rho, x, rhod)
       type(params_t), intent(in) :: prm
       integer, intent(in) :: n
-      ! explicit shapes: contiguous arrays, so that the loop runs four particles at a time
-      real(rp), intent(in) :: rho(n), y(n)
+      ! explicit shapes, so that the loop runs four particles at a time
+      real(rp), intent(in) :: rho(n), x(2, n)
       real(rp), intent(out) :: rhod(n)
       integer :: i
       do i = 1, n
-         rhod(i) = rho(i) - eos_density_at_depth(prm, prm%y_surface - y(i))
+         rhod(i) = rho(i) - eos_density_at_depth(prm, prm%y_surface - x(2, i))
       end do
    end subroutine eos_dynamic_density
 

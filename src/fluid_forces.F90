@@ -147,7 +147,7 @@ contains
       call ensure(w, size(p%rho), prm)
       call eos_update(prm, n, p%rho, p%p, w%cs)
       if (prm%diffusion == diff_fourtakas) then
-         call eos_dynamic_density(prm, n, p%rho, p%x(2, 1:n), w%rhod)
+         call eos_dynamic_density(prm, n, p%rho, p%x, w%rhod)
       else if (prm%diffusion /= diff_none) then
          w%rhod(1:n) = p%rho(1:n)
       end if
@@ -193,7 +193,8 @@ contains
       real(rp), intent(out), optional :: lm(:, :)
       real(rp), allocatable :: gv(:, :)
       integer :: i, j, k
-      real(rp) :: dx, dy, fac, vi, vj, dvx, dvy, sxx, sxy, syy, s2, nut, sk
+      real(rp) :: dx, dy, fac, vi, vj, dvx, dvy, sxx, sxy, syy, s2, nut, sk, xi, yi, vxi, vyi
+      real(rp) :: b1, b2, b3, g1, g2, g3, g4
       allocate (gv(4, p%n))          ! du/dx, du/dy, dv/dx, dv/dy
       gv = 0.0_rp
       ! one copy of the pass per choice: no test inside the pair loop

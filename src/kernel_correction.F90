@@ -27,7 +27,7 @@ contains
       real(rp), intent(in) :: vol(:)       !< mass/density of every particle
       real(rp), intent(out) :: lm(:, :)
       integer :: i, j, k
-      real(rp) :: dx, dy, fac, vi, vj
+      real(rp) :: dx, dy, fac, vi, vj, xi, yi, b1, b2, b3
       lm(:, 1:p%n) = 0.0_rp
 #define PRE_KGC 1
 #define PRE_SPS 0
