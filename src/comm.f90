@@ -9,7 +9,8 @@ module comm
                       MPI_COMM_WORLD, MPI_Wtime, MPI_Initialized, MPI_Finalized, MPI_Allreduce, &
                       MPI_Allgather, MPI_Allgatherv, MPI_Exscan, MPI_Barrier, MPI_IN_PLACE, MPI_SUM, &
                       MPI_MAX, MPI_DOUBLE_PRECISION, MPI_INTEGER, MPI_INFO_NULL, MPI_Sendrecv, MPI_Alltoall, &
-                      MPI_Alltoallv, MPI_PROC_NULL, MPI_STATUS_IGNORE
+                      MPI_Alltoallv, MPI_PROC_NULL, MPI_STATUS_IGNORE, MPI_Comm, MPI_Comm_split_type, &
+                      MPI_COMM_TYPE_SHARED, MPI_Comm_free
    use, intrinsic :: iso_c_binding, only: c_int
    use kinds, only: rp
    use timers, only: timer_start, timer_stop, t_comm
@@ -17,7 +18,7 @@ module comm
    private
    public :: comm_init, comm_finalize, comm_abort, comm_rank, comm_size, comm_wtime, &
              comm_handle, comm_info_handle, comm_barrier, comm_sum, comm_max, comm_exscan, comm_allgather, comm_allgatherv, &
-             comm_grace, comm_sendrecv, comm_alltoall, comm_alltoallv, comm_no_rank
+             comm_grace, comm_sendrecv, comm_alltoall, comm_alltoallv, comm_no_rank, comm_node_size
 
    !> Neighbour rank meaning "none" (the edge of the domain): an exchange
    !> with it sends and receives nothing (MPI_PROC_NULL inside this module).
@@ -62,6 +63,16 @@ contains
       call MPI_Comm_rank(MPI_COMM_WORLD, my_rank)
       call MPI_Comm_size(MPI_COMM_WORLD, n_ranks)
    end subroutine comm_init
+
+   !> The ranks that share this rank's machine (its memory), this one included.
+   integer function comm_node_size() result(n)
+      type(MPI_Comm) :: node
+      n = 1
+      if (n_ranks == 1) return
+      call MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, my_rank, MPI_INFO_NULL, node)
+      call MPI_Comm_size(node, n)
+      call MPI_Comm_free(node)
+   end function comm_node_size
 
    subroutine comm_finalize()
       logical :: init, fin

@@ -6,28 +6,17 @@ module input_check
    use kinds, only: rp
    use constants, only: msg_len
    use errors, only: input_error, fatal
+   use input_syntax, only: lower, syntax_check, syntax_scan, assign_t, is_name
    implicit none
    private
    public :: open_case, scan_groups, group_count, read_failed, read_failed_open, check_real, check_int, &
-             check_choice, lower, real_str, int_str
+             check_choice, lower, real_str, int_str, approx_str
 
    character(len=*), parameter :: known_groups(*) = [character(len=16) :: &
       'run', 'domain', 'fluid', 'numerics', 'box', 'polygon', 'slope', 'body', 'contact', 'wavemaker', &
       'gauge', 'damping', 'breakwater', 'armour']
 
 contains
-
-   !> Lower-case copy of a string (namelist choices are case-insensitive).
-   pure function lower(s) result(r)
-      character(len=*), intent(in) :: s
-      character(len=len(s)) :: r
-      integer :: i, c
-      r = s
-      do i = 1, len(s)
-         c = iachar(s(i:i))
-         if (c >= iachar('A') .and. c <= iachar('Z')) r(i:i) = achar(c + 32)
-      end do
-   end function lower
 
    function real_str(x) result(s)
       real(rp), intent(in) :: x
@@ -36,6 +25,20 @@ contains
       write (b, '(g0.6)') x
       s = trim(adjustl(b))
    end function real_str
+
+   !> A large or rough figure with three digits: 6.91e+07, 32.6, 0.230.
+   function approx_str(x) result(s)
+      real(rp), intent(in) :: x
+      character(len=:), allocatable :: s
+      character(len=32) :: b
+      if (abs(x) >= 1.0e4_rp) then
+         write (b, '(es10.2e2)') x
+      else
+         write (b, '(g0.3)') x
+      end if
+      s = trim(adjustl(b))
+      if (s(1:1) == '.') s = '0'//s
+   end function approx_str
 
    function int_str(i) result(s)
       integer, intent(in) :: i
@@ -102,6 +105,7 @@ contains
          end do chars
       end do
       close (u)
+      call syntax_check(file)
    end subroutine scan_groups
 
    function group_list() result(s)
@@ -197,7 +201,7 @@ contains
       character(len=*), intent(in) :: file, group, msg
       integer, intent(in) :: ios
       integer :: k
-      character(len=msg_len) :: tok, var
+      character(len=msg_len) :: tok, var, val
       failed = .false.
       if (ios == 0) return
       if (is_iostat_end(ios)) return
@@ -207,6 +211,16 @@ contains
          ! the reader also lands here when a value cannot be read: it takes
          ! the unreadable text for the next variable name
          tok = adjustl(msg(k + 33:))
+         ! the reader runs on into the next group's name: '.5&domain'
+         if (scan(trim(tok), '&$/') > 1) tok = tok(1:scan(trim(tok), '&$/') - 1)
+         if (.not. is_name(trim(tok))) then
+            ! the tail of a value the variable's type cannot take: 2.5 read
+            ! as the whole number 2, then '.5' as a name
+            call value_of(file, group, trim(tok), var, val)
+            if (len_trim(var) > 0) call input_error(file, group, trim(var), 'cannot read the value '//trim(val)// &
+                                                    " as this variable's type (see doc/input.md: a whole number, "// &
+                                                    'a real, a quoted string or .true./.false.)')
+         end if
          var = variable_before(file, trim(tok))
          if (len_trim(var) > 0) then
             call input_error(file, group, trim(var), 'cannot read the value '//trim(tok)// &
@@ -218,6 +232,28 @@ contains
          call input_error(file, group, '', 'cannot read the group: '//trim(msg))
       end if
    end function read_failed
+
+   !> The variable of group whose value (as written) ends with the text tok,
+   !> and that value; blank when there is none.
+   subroutine value_of(file, group, tok, var, val)
+      character(len=*), intent(in) :: file, group, tok
+      character(len=msg_len), intent(out) :: var, val
+      type(assign_t), allocatable :: a(:)
+      character(len=msg_len) :: err
+      integer :: i, m
+      var = ''
+      val = ''
+      call syntax_scan(file, a, err)
+      do i = 1, size(a)
+         if (a(i)%group /= lower(group)) cycle
+         m = len_trim(a(i)%text)
+         if (m < len(tok)) cycle
+         if (lower(a(i)%text(m - len(tok) + 1:m)) /= lower(tok)) cycle
+         var = a(i)%var
+         val = a(i)%text
+         return
+      end do
+   end subroutine value_of
 
    !> Name of the variable whose value is the text tok ('name = tok' in the
    !> file, case-insensitive), or blank when tok is not such a value.

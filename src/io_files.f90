@@ -54,6 +54,9 @@ contains
    !> reused with overwrite = .true. (its old output is deleted first) or
    !> restart = .true. (it must hold a checkpoint).
    subroutine outdir_prepare(case_file, out_dir, overwrite, restart)
+      ! the files of a run besides its snapshots (doc/output.md)
+      character(len=*), parameter :: run_files(*) = [character(len=20) :: 'checkpoint.h5', 'checkpoint.h5.tmp', &
+         'energy.csv', 'bodies.csv', 'gauges.csv', 'armour.csv', 'particles.xmf', 'case.nml', 'run.log']
       character(len=*), intent(in) :: case_file, out_dir
       logical, intent(in) :: overwrite, restart
       character(len=path_len) :: d
@@ -76,12 +79,11 @@ contains
             call delete_file(snap_name(d, k))
             k = k + 1
          end do
-         call delete_file(trim(d)//'/checkpoint.h5')
-         call delete_file(trim(d)//'/energy.csv')
-         call delete_file(trim(d)//'/bodies.csv')
-         call delete_file(trim(d)//'/particles.xmf')
-         call delete_file(trim(d)//'/case.nml')
-         call delete_file(trim(d)//'/run.log')
+         ! every file a run writes: a run without gauges or armour must not leave
+         ! an earlier run's gauges.csv or armour.csv beside its own output
+         do k = 1, size(run_files)
+            call delete_file(trim(d)//'/'//trim(run_files(k)))
+         end do
       end if
       call make_dirs(trim(d))
       ok = dir_writable(d)

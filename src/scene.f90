@@ -15,7 +15,11 @@ module scene
    use errors, only: fatal
    implicit none
    private
-   public :: scene_build, scene_bodies
+   public :: scene_build, scene_bodies, scene_no_fluid, scene_estimate
+
+   !> What a scene without fluid particles lacks, for the messages.
+   character(len=*), parameter :: scene_no_fluid = "no fluid particles: no &box or &polygon with role = 'fluid' "// &
+                                                   '(or all of its area lies outside the &domain, in solids or bodies)'
 
    type :: outline_t
       real(rp), allocatable :: v(:, :)
@@ -69,7 +73,40 @@ contains
       p%n_id = p%n
       p%n_own = p%n
       if (p%n == 0) call fatal(trim(c%file)//': the case makes no particles (add &box, &polygon or &slope groups)', 2)
+      if (nf == 0) call no_fluid(c, p, bodies)
    end subroutine scene_build
+
+   !> A scene without water and with nothing that moves is nothing to
+   !> simulate; without water but with bodies or walls that move it is a dry
+   !> contact case (the solver says so in run.log).
+   subroutine no_fluid(c, p, bodies)
+      type(case_cfg), intent(in) :: c
+      type(particles_t), intent(in) :: p
+      type(body_t), intent(in) :: bodies(:)
+      integer :: k
+      logical :: moves
+      moves = any(p%kind(1:p%n) == kind_moving)
+      do k = 1, size(bodies)
+         moves = moves .or. bodies(k)%motion /= motion_fixed
+      end do
+      if (.not. moves) call fatal(trim(c%file)//': the case has '//scene_no_fluid//' and nothing that moves: '// &
+                                  'nothing to simulate', 2)
+   end subroutine no_fluid
+
+   !> About how many particles the case makes: the area of every object and
+   !> body over dp^2 (overlaps counted twice: an upper estimate), before any is made.
+   real(rp) function scene_estimate(c) result(n)
+      type(case_cfg), intent(in) :: c
+      integer :: k
+      n = 0.0_rp
+      do k = 1, size(c%objs)
+         n = n + abs(polygon_area(c%objs(k)%v))
+      end do
+      do k = 1, size(c%bodies)
+         n = n + abs(polygon_area(body_outline(c%bodies(k))))
+      end do
+      n = n/c%numerics%dp**2
+   end function scene_estimate
 
    !> The bodies of a case at their start state, and (when p is given) their
    !> particles. A restart calls it without p for the constant properties.

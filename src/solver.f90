@@ -10,11 +10,12 @@ module solver
    use kinds, only: rp, i8
    use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_name
    use input, only: case_cfg, write_case
-   use input_check, only: int_str, real_str
+   use input_check, only: int_str, real_str, approx_str
    use particles, only: particles_t, particles_count_kind, particles_permute
    use params, only: params_t, params_init, visc_artificial, diff_none, kgc_gradient, kgc_shepard, &
                      integ_verlet, bnd_repulsive
-   use scene, only: scene_build, scene_bodies
+   use scene, only: scene_build, scene_bodies, scene_no_fluid, scene_estimate
+   use sys_limits, only: sys_memory_left
    use body_dynamics, only: body_t, bodies_place, bodies_energy, bodies_prescribe
    use contact, only: contact_t, contact_init, contact_memory_advance, contact_memory_get, contact_memory_set
    use io_bodies, only: bodies_csv_open, bodies_csv_row, bodies_csv_close
@@ -34,7 +35,7 @@ module solver
    use io_checkpoint, only: checkpoint_write, checkpoint_read
    use logger, only: log_open, log_close, log_line, log_progress
    use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup
-   use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max, comm_allgather
+   use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max, comm_allgather, comm_node_size
    use errors, only: fatal, input_error
    use wave_paddle, only: paddle_init
    use wave_damping, only: damping_apply
@@ -125,12 +126,17 @@ contains
       cfg = c
       out = trim(c%run%out_dir)
       call timer_start(t_setup)
+      ! every check that can still fail comes before the output folder is
+      ! touched: with overwrite = .true. a case refused here keeps the old run
+      call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, wave_report)
+      call check_ranks(c)
+      call check_size(c)
+      if (.not. c%run%restart) call scene_build(c, p, prm, bodies)
       ! one rank prepares the folder; the others wait for it (or for its abort)
       if (comm_rank() == 0) call outdir_prepare(c%file, out, c%run%overwrite, c%run%restart)
       call comm_barrier()
       call log_open(out//'/run.log', c%run%restart)
       call h5_start()
-      call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, wave_report)
       if (c%run%restart) then
          call scene_bodies(c, bodies)
          call checkpoint_read(out, p, st, bodies, counts, edges, mem)
@@ -138,7 +144,6 @@ contains
          call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//out// &
                        '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
       else
-         call scene_build(c, p, prm, bodies)
          if (size(bodies) > 0) then
             ! prescribed bodies start on their function of time at t = 0
             call bodies_prescribe(bodies, 0.0_rp)
@@ -157,6 +162,8 @@ contains
       n_kind = [particles_count_kind(p, kind_fluid), particles_count_kind(p, kind_fixed), &
                 particles_count_kind(p, kind_moving), particles_count_kind(p, kind_floating)]
       moving = n_kind(3) > 0
+      if (n_kind(1) == 0) call log_line('mbsph: warning: '//trim(c%file)//': the case has '//scene_no_fluid// &
+                                        '; only the bodies and moving walls are simulated')
       if (comm_rank() == 0) call write_case(out//'/case.nml', c)
       call comm_barrier()
       case_text = file_text(out//'/case.nml')
@@ -244,6 +251,54 @@ contains
       call timer_stop(t_grid)
    end subroutine neighbours
 
+   !> Enough cell columns for the ranks: each rank's slab is one column at least.
+   subroutine check_ranks(c)
+      type(case_cfg), intent(in) :: c
+      type(grid_t) :: gc
+      integer :: nr
+      nr = comm_size()
+      if (nr == 1) return
+      call grid_init(gc, c%domain%xmin, c%domain%xmax, c%domain%ymin, c%domain%ymax, &
+                     c%numerics%h_over_dp*c%numerics%dp)
+      if (nr > gc%ncx_all) call input_error(c%file, 'domain', 'xmax', 'the domain is '//int_str(gc%ncx_all)// &
+         ' cells of 2h wide, too few for '//int_str(nr)//' ranks (a rank needs one at least): run on at most '// &
+         int_str(gc%ncx_all)//' ranks')
+   end subroutine check_ranks
+
+   !> The case's size against the 32-bit numbers of particles and cells and
+   !> against the memory this process can still take, before any of it is
+   !> allocated: a case too large ends with the estimate, not a crash.
+   subroutine check_size(c)
+      type(case_cfg), intent(in) :: c
+      ! bytes per particle of one rank: the run's arrays (274 to 456 measured,
+      ! doc/performance.md) with the scene's growing store, and every rank
+      ! holds the whole set while the scene is built
+      real(rp), parameter :: bytes_per_particle = 500.0_rp
+      ! cells and particles are numbered by default integers; a margin of two
+      real(rp), parameter :: index_max = 0.5_rp*real(huge(1), rp)
+      real(rp) :: n, cells, need, left, h
+      character(len=:), allocatable :: source
+      h = c%numerics%h_over_dp*c%numerics%dp
+      associate (d => c%domain)
+         ! the grid: cells 2h wide and h/2 tall, with ghost columns and rows (grid_init)
+         cells = (real(ceiling((d%xmax - d%xmin)/(2.0_rp*h)), rp) + 2.0_rp)* &
+                 (real(ceiling((d%ymax - d%ymin)/(0.5_rp*h)), rp) + 8.0_rp)
+         if (cells > index_max) call input_error(c%file, 'domain', 'xmin, xmax, ymin, ymax', 'the domain of '// &
+            real_str(d%xmax - d%xmin)//' x '//real_str(d%ymax - d%ymin)//' m makes '//approx_str(cells)// &
+            ' cells of the neighbour grid at dp = '//real_str(c%numerics%dp)//' m, more than the '// &
+            approx_str(index_max)//' it can number: shrink the domain to the water and walls, or raise dp')
+      end associate
+      n = scene_estimate(c)
+      if (n > index_max) call input_error(c%file, 'numerics', 'dp', 'the case would make about '//approx_str(n)// &
+         ' particles, more than the '//approx_str(index_max)//' they can be numbered with: raise dp')
+      need = n*bytes_per_particle + cells*8.0_rp
+      call sys_memory_left(comm_node_size(), left, source)
+      if (need > left) call input_error(c%file, 'numerics', 'dp', 'the case needs about '//approx_str(n)// &
+         ' particles, about '//approx_str(need/1024.0_rp**3)//' GB on each rank (every rank holds the whole set '// &
+         'while the scene is built); '//source//' leaves '//approx_str(max(left, 0.0_rp)/1024.0_rp**3)// &
+         ' GB: raise dp, shrink the objects, or run where more memory is available')
+   end subroutine check_size
+
    !> Split the whole set among the ranks: slabs of equal width (a new run;
    !> the first step balances them), the edges of the run continued (a
    !> restart on as many ranks, with its memory order), or edges from the
@@ -260,9 +315,6 @@ contains
       call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h)
       call decomp_init(g%x0, g%cs, g%ncx_all, nr, me)
       if (nr == 1) return
-      if (nr > g%ncx_all) call input_error(cfg%file, 'domain', 'xmax', 'the domain is '//int_str(g%ncx_all)// &
-         ' cells of 2h wide, too few for '//int_str(nr)//' ranks (a rank needs one at least): run on at most '// &
-         int_str(g%ncx_all)//' ranks')
       same = size(counts) == nr .and. size(edges) == nr + 1
       if (same) same = edges(nr + 1) == g%ncx_all
       if (same) then

@@ -10,7 +10,10 @@ valid case BASE, which test_base_case_is_valid shows to run.
 
 from __future__ import annotations
 
+import os
 import re
+import resource
+import subprocess
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -285,4 +288,185 @@ def test_out_dir_too_long_is_refused(tmp_path: Path, mbsph: Path) -> None:
     assert proc.returncode == EXIT_INPUT, describe(proc)
     msg = error_line(proc)
     assert f"{CASE}: &run: out_dir: " in msg and "longer than" in msg, msg
+    assert not (tmp_path / "OUT").exists()
+
+
+# ------------------------------------------------------------ syntax: the line, the variable, what was expected
+
+
+@dataclass(frozen=True)
+class Syntax:
+    text: str
+    marker: str                     # text of the line the message must name
+    group: str
+    var: str                        # '' when the message names no variable
+    words: tuple[str, ...]
+
+
+SYNTAX: dict[str, Syntax] = {
+    # the namelist reader reported this as 'unknown namelist group &fluidfluid'
+    "double_equals": Syntax(edit("rho0 = 1000.0", "rho0 = = 1"), "rho0 = = 1", "fluid", "rho0",
+                            ("a value is expected after =", "found =")),
+    # a scalar given two values: the reader blamed another variable
+    "two_values_for_a_scalar": Syntax(edit("t_end = 0.01", "t_end = 0.01, 0.1"), "t_end = 0.01, 0.1", "run",
+                                      "t_end", ("takes one value", "0.01, 0.1")),
+    # the reader reported 'yes&domain: unknown variable'
+    "logical_yes": Syntax(edit("max_steps = 1\n", "max_steps = 1\n  overwrite = yes\n"), "overwrite = yes", "run",
+                          "overwrite", ("cannot read the value 'yes'", ".true./.false.")),
+    "missing_equals": Syntax(edit("dp = 0.02", "dp 0.02"), "dp 0.02", "numerics", "dp",
+                             ("= is expected after the name", "0.02")),
+    "missing_value": Syntax(edit("cfl = 0.2", "cfl ="), "cfl =", "numerics", "cfl", ("a value is expected",)),
+    "group_not_closed": Syntax(edit("ymax = 0.5\n/\n", "ymax = 0.5\n"), "&fluid", "domain", "",
+                               ("not closed", "before &fluid")),
+    "string_not_closed": Syntax(edit("case_name = 'bad_input'", "case_name = 'bad_input"), "case_name = 'bad_input",
+                                "run", "case_name", ("string", "not closed")),
+    "unquoted_string": Syntax(edit("kernel = 'wendland'", "kernel = wendland"), "kernel = wendland", "numerics",
+                              "kernel", ("cannot read the value 'wendland'", "quoted string")),
+    # non-finite geometry was accepted and wrote NaN lines with exit 0: refused for every
+    # variable of every group, where it is read
+    "nan_body_x": Syntax(BASE + BODY.format("density = 500.0").replace("x = 0.3", "x = NaN"), "&body", "body #1",
+                         "x", ("'NaN'", "not a finite number")),
+    "inf_domain_xmax": Syntax(edit("xmax = 0.5", "xmax = Inf"), "xmin = -0.1, xmax = Inf", "domain", "xmax",
+                              ("'Inf'", "not a finite number")),
+    "overflowing_polygon_vertex": Syntax(BASE + "&polygon role = 'solid', nvert = 3, x = 0.2, 1e400, 0.3, "
+                                         "y = 0.1, 0.1, 0.2 /\n", "&polygon", "polygon #1", "x",
+                                         ("'1e400'", "not a finite number")),
+    "nan_slope_vertex": Syntax(BASE + "&slope x0 = 0.1, y0 = 0.0, x1 = 0.4, y1 = 1*nan /\n", "&slope", "slope #1",
+                               "y1", ("'1*nan'", "not a finite number")),
+    "nan_gauge": Syntax(BASE + "&gauge kind = 'elevation', x = nan /\n", "&gauge", "gauge #1", "x",
+                        ("not a finite number",)),
+    "infinite_damping": Syntax(BASE + "&damping x0 = -Infinity, x1 = 0.4 /\n", "&damping", "damping", "x0",
+                               ("not a finite number",)),
+    "nan_wavemaker_x0": Syntax(BASE + "&wavemaker x0 = NaN /\n", "&wavemaker", "wavemaker", "x0",
+                               ("not a finite number",)),
+}
+
+
+@pytest.mark.parametrize("name", list(SYNTAX))
+def test_syntax_error_names_the_line(name: str, tmp_path: Path, mbsph: Path) -> None:
+    bad = SYNTAX[name]
+    proc, _ = run_case(bad.text, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    line = next(k for k, ln in enumerate(bad.text.splitlines(), 1) if ln.strip().startswith(bad.marker))
+    where = f"{CASE}: line {line}: &{bad.group}: " + (f"{bad.var}: " if bad.var else "")
+    assert where in msg, f"the message should name {where!r}:\n{msg}"
+    for word in bad.words:
+        assert word in msg, f"the message should mention {word!r}:\n{msg}"
+    assert_no_output(tmp_path)
+
+
+def test_real_for_a_whole_number_names_the_variable(tmp_path: Path, mbsph: Path) -> None:
+    # the reader takes 2 for max_steps and then '.5' for the next name: it reported
+    # '.5: unknown variable'
+    proc, _ = run_case(edit("max_steps = 1", "max_steps = 2.5"), tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    assert f"{CASE}: &run: max_steps: " in msg and "2.5" in msg, msg
+    assert_no_output(tmp_path)
+
+
+def test_every_shipped_case_passes_the_syntax_check(tmp_path: Path, mbsph: Path) -> None:
+    # the check must not refuse what the reader takes: every case file of input/ and
+    # bench/, with a second &run appended, which the reader refuses after the syntax check
+    root = Path(__file__).resolve().parents[1]
+    files = sorted(root.glob("input/**/*.nml")) + sorted(root.glob("bench/*.nml"))
+    assert len(files) > 10
+    for f in files:
+        proc, _ = run_case(f.read_text() + "\n&run case_name = 'again' /\n", tmp_path, binary=mbsph, name=CASE)
+        msg = "\n".join(ln for ln in proc.stderr.splitlines() if ln.startswith("mbsph: error: "))
+        assert proc.returncode == EXIT_INPUT and "more than once" in msg, f"{f.relative_to(root)}: {msg or describe(proc)}"
+
+
+# ------------------------------------------------------------ a scene with nothing to simulate
+
+
+NO_FLUID = edit("&box role = 'fluid', xmin = 0.0, xmax = 0.1, ymin = 0.0, ymax = 0.2 /\n", "")
+
+
+def test_no_fluid_and_nothing_moving_is_refused(tmp_path: Path, mbsph: Path) -> None:
+    # walls alone: the run used to go on and exit 0
+    proc, _ = run_case(NO_FLUID, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    assert f"{CASE}: " in msg and "no fluid particles" in msg and "nothing to simulate" in msg, msg
+    assert not (tmp_path / "OUT").exists(), "the refused case created its output folder"
+
+
+def test_dry_case_with_a_body_runs_and_says_so(tmp_path: Path, mbsph: Path) -> None:
+    # a body falling on the floor without water (as the paper's dry contact cases): allowed,
+    # with a warning on the screen and in run.log
+    proc, out = run_case(NO_FLUID + BODY.format("density = 500.0"), tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    for text in (proc.stdout, (out / "run.log").read_text()):
+        assert "mbsph: warning: " in text and "no fluid particles" in text, text[-2000:]
+
+
+# ------------------------------------------------------------ overwrite: checks first, then the old run goes
+
+
+def test_refused_case_keeps_the_old_run_even_with_overwrite(tmp_path: Path, mbsph: Path) -> None:
+    proc, out = run_case(BASE, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    before = folder_state(out)
+    # overwrite asked for, but the scene is refused after the groups were read
+    second = edit("max_steps = 1\n", "max_steps = 1\n  overwrite = .true.\n", NO_FLUID)
+    proc, _ = run_case(second, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    assert "nothing to simulate" in error_line(proc)
+    assert folder_state(out) == before, "a refused case deleted or changed the previous run"
+
+
+def test_overwrite_removes_every_file_of_the_old_run(tmp_path: Path, mbsph: Path) -> None:
+    proc, out = run_case(BASE, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    # files an earlier run with gauges and armour units would have left
+    (out / "gauges.csv").write_text("t,eta_1\n0.0,0.0\n")
+    (out / "armour.csv").write_text("unit,x,y\n")
+    (out / "figure.png").write_bytes(b"not a run file")
+    proc, _ = run_case(edit("max_steps = 1\n", "max_steps = 1\n  overwrite = .true.\n"), tmp_path, binary=mbsph,
+                       name=CASE)
+    assert_ok(proc)
+    assert not (out / "gauges.csv").exists() and not (out / "armour.csv").exists(), sorted(os.listdir(out))
+    assert (out / "figure.png").exists(), "overwrite removed a file that is not the run's"
+
+
+# ------------------------------------------------------------ a case too large: the estimate, not a crash
+
+
+def run_limited(text: str, tmp_path: Path, binary: Path, limit_bytes: int) -> subprocess.CompletedProcess:
+    """Run a case under an address-space limit, as `ulimit -v` sets it."""
+    (tmp_path / CASE).write_text(text)
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (limit_bytes, limit_bytes))
+
+    return subprocess.run([str(binary), CASE], cwd=tmp_path, capture_output=True, text=True, timeout=120,
+                          stdin=subprocess.DEVNULL, preexec_fn=limit)
+
+
+def test_case_too_large_for_the_limit_stops_with_the_estimate(tmp_path: Path, mbsph: Path) -> None:
+    # dp = 5e-5 m: about 2e7 particles (0.02 m^2 of water and 0.03 of floor over dp^2),
+    # some 10 GB; under a 4 GB limit it crashed (SIGSEGV) after allocating; now it stops
+    # before, with the estimate and what allows less
+    text = edit("dp = 0.02", "dp = 5.0e-5")
+    proc = run_limited(text, tmp_path, mbsph, 4 * 1024**3)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    assert f"{CASE}: &numerics: dp: " in msg and "particles" in msg and "GB on each rank" in msg, msg
+    assert "ulimit -v" in msg, msg
+    found = re.search(r"about ([0-9.eE+]+) particles", msg)
+    assert found and 1.0e7 < float(found.group(1)) < 4.0e7, msg
+    assert not (tmp_path / "OUT").exists(), "the refused case created its output folder"
+
+
+def test_domain_beyond_the_cell_numbers_is_refused(tmp_path: Path, mbsph: Path) -> None:
+    # 2 km x 2 km at dp = 0.02 m: 5e9 cells of the neighbour grid, beyond 32-bit numbers
+    # (a 927 m square at dp = 0.005 m overflowed them and crashed)
+    text = edit("xmin = -0.1, xmax = 0.5, ymin = -0.1, ymax = 0.5", "xmin = -0.1, xmax = 2000.0, ymin = -0.1, "
+                "ymax = 2000.0")
+    proc, _ = run_case(text, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    assert f"{CASE}: &domain: " in msg and "cells of the neighbour grid" in msg, msg
     assert not (tmp_path / "OUT").exists()
