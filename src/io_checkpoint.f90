@@ -10,19 +10,28 @@ module io_checkpoint
    use particles, only: particles_t, particles_alloc
    use run_state, only: state_t
    use body_dynamics, only: body_t
+   use, intrinsic :: iso_fortran_env, only: int64
    use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_write_part, h5_read, &
-                      h5_attr_write, h5_attr_read, h5_length, h5_exists, file_rename
-   use comm, only: comm_rank, comm_size, comm_exscan, comm_allgather
+                      h5_attr_write, h5_attr_read, h5_attr_exists, h5_length, h5_exists, file_rename
+   use comm, only: comm_rank, comm_size, comm_exscan, comm_allgather, comm_sum
+   use errors, only: input_error
+   use input_check, only: int_str, real_str
    use decomp, only: decomp_edges
    implicit none
    private
-   public :: checkpoint_write, checkpoint_read
+   public :: checkpoint_write, checkpoint_read, checkpoint_check
+
+   !> The checksum is a sum over the particles, modulo this prime, of a hash of
+   !> each one's record: the same whatever the order of the particles or the
+   !> number of ranks that wrote them.
+   integer(int64), parameter :: prime = 2147483629_int64
 
 contains
 
    !> mem: the contacts' slip memory (contact_memory_get), the same on every rank.
-   subroutine checkpoint_write(out_dir, p, st, bodies, mem)
+   subroutine checkpoint_write(out_dir, dp, p, st, bodies, mem)
       character(len=*), intent(in) :: out_dir
+      real(rp), intent(in) :: dp              !< the case's particle spacing, checked on restart
       type(particles_t), intent(in) :: p
       type(state_t), intent(in) :: st
       type(body_t), intent(in) :: bodies(:)
@@ -32,6 +41,7 @@ contains
       integer(hid_t) :: f
       character(len=:), allocatable :: path
       integer :: n, off, tot, counts(comm_size())
+      real(rp) :: sums(1)
       n = p%n_own
       call comm_allgather(n, counts)
       off = comm_exscan(n)
@@ -75,6 +85,12 @@ contains
          call h5_write(f, 'bodies', bs)
       end if
       if (size(mem, 2) > 0) call h5_write(f, 'contact_memory', mem)
+      call h5_attr_write(f, 'dp', dp)
+      call h5_attr_write(f, 'n_bodies', size(bodies))
+      ! each rank's particles, summed over the ranks (exact: every part is below 2^31)
+      sums(1) = real(particles_checksum(p, n), rp)
+      call comm_sum(sums)
+      call h5_attr_write(f, 'checksum', real(mod(nint(sums(1), int64), prime), rp))
       call h5_close(f)
       if (comm_rank() == 0) call file_rename(path//'.tmp', path)
    end subroutine checkpoint_write
@@ -82,8 +98,8 @@ contains
    !> The whole checkpoint, on every rank; counts and edges are the writer's
    !> particles per rank and slab edges (one rank, no edges, for a
    !> checkpoint of a serial build); mem the contacts' slip memory (none: 0 columns).
-   subroutine checkpoint_read(out_dir, p, st, bodies, counts, edges, mem)
-      character(len=*), intent(in) :: out_dir
+   subroutine checkpoint_read(case_file, out_dir, p, st, bodies, counts, edges, mem)
+      character(len=*), intent(in) :: case_file, out_dir
       type(particles_t), intent(inout) :: p
       type(state_t), intent(inout) :: st
       type(body_t), intent(inout) :: bodies(:)
@@ -93,6 +109,7 @@ contains
       integer :: n, b, nr
       logical :: parts
       real(rp), allocatable :: bs(:, :)
+      real(rp) :: sum_file
       f = h5_open_read(trim(out_dir)//'/checkpoint.h5')
       n = h5_length(f, 'rho')
       call particles_alloc(p, n)
@@ -123,6 +140,14 @@ contains
       call h5_read(f, 'kind', p%kind)
       call h5_read(f, 'body', p%body)
       call h5_read(f, 'id', p%id)
+      ! a checkpoint changed after it was written (a byte overwritten, a copy cut
+      ! short that HDF5 still reads) is refused here, not run from
+      if (h5_attr_exists(f, 'checksum')) then
+         call h5_attr_read(f, 'checksum', sum_file)
+         if (particles_checksum(p, n) /= nint(sum_file, int64)) call input_error(case_file, 'run', 'restart', &
+            trim(out_dir)//'/checkpoint.h5: the particle data do not match the checksum written with them: '// &
+            'the file was changed or damaged after it was written; restart from an earlier copy or run anew')
+      end if
       call h5_attr_read(f, 'n_id', p%n_id)
       call h5_attr_read(f, 't', st%t)
       call h5_attr_read(f, 'dt', st%dt)
@@ -154,4 +179,74 @@ contains
       end if
       call h5_close(f)
    end subroutine checkpoint_read
+   !> Before a restart reads anything: the checkpoint must come from this
+   !> case's scene, the same spacing dp, the same number of bodies and of
+   !> particles made (n_made: the case's scene; particles lost since may be fewer).
+   subroutine checkpoint_check(case_file, out_dir, dp, n_bodies, n_made)
+      character(len=*), intent(in) :: case_file, out_dir
+      real(rp), intent(in) :: dp
+      integer, intent(in) :: n_bodies, n_made
+      integer(hid_t) :: f
+      integer :: nb, n_id
+      real(rp) :: dp_file
+      character(len=:), allocatable :: what
+      what = trim(out_dir)//'/checkpoint.h5 '
+      f = h5_open_read(trim(out_dir)//'/checkpoint.h5')
+      nb = 0
+      if (h5_exists(f, 'bodies')) nb = h5_length(f, 'bodies')
+      if (nb /= n_bodies) call input_error(case_file, 'run', 'restart', what//'holds '//int_str(nb)// &
+         ' bodies, the case '//int_str(n_bodies)//': it was written by another case')
+      if (h5_attr_exists(f, 'dp')) then
+         call h5_attr_read(f, 'dp', dp_file)
+         if (abs(dp_file - dp) > 1.0e-12_rp*dp) call input_error(case_file, 'numerics', 'dp', what// &
+            'was written at dp = '//real_str(dp_file)//' m, the case has dp = '//real_str(dp)// &
+            ' m: a restart continues the same particles')
+      end if
+      call h5_attr_read(f, 'n_id', n_id)
+      if (n_id /= n_made) call input_error(case_file, 'run', 'restart', what//'was written by a case of '// &
+         int_str(n_id)//' particles, this case makes '//int_str(n_made)//': it was written by another case '// &
+         '(or the geometry changed)')
+      call h5_close(f)
+   end subroutine checkpoint_check
+
+   !> Sum over particles 1..n, modulo prime, of a hash of each one's record
+   !> (every word of every field, as its bits).
+   integer(int64) function particles_checksum(p, n) result(cs)
+      type(particles_t), intent(in) :: p
+      integer, intent(in) :: n
+      integer :: i
+      integer(int64) :: h
+      cs = 0
+      do i = 1, n
+         h = 0
+         call mix_r(h, p%x(:, i)); call mix_r(h, p%v(:, i)); call mix_r(h, [p%rho(i), p%p(i), p%mass(i)])
+         call mix_r(h, p%nrm(:, i)); call mix_r(h, p%xb(:, i)); call mix_r(h, p%nb(:, i))
+         call mix_r(h, p%vm1(:, i)); call mix_r(h, [p%rhom1(i)])
+         call mix_i(h, [p%surf(i), p%kind(i), p%body(i), p%id(i)])
+         cs = mod(cs + h, prime)
+      end do
+   end function particles_checksum
+
+   !> h from the bits of the reals a, 32 at a time (a polynomial hash modulo prime).
+   pure subroutine mix_r(h, a)
+      integer(int64), intent(inout) :: h
+      real(rp), intent(in) :: a(:)
+      integer :: k
+      integer(int64) :: b
+      integer(int64), parameter :: low = 4294967295_int64
+      do k = 1, size(a)
+         b = transfer(a(k), b)
+         h = mod(h*131_int64 + iand(b, low), prime)
+         h = mod(h*131_int64 + iand(ishft(b, -32), low), prime)
+      end do
+   end subroutine mix_r
+
+   pure subroutine mix_i(h, a)
+      integer(int64), intent(inout) :: h
+      integer, intent(in) :: a(:)
+      integer :: k
+      do k = 1, size(a)
+         h = mod(h*131_int64 + iand(int(a(k), int64), 4294967295_int64), prime)
+      end do
+   end subroutine mix_i
 end module io_checkpoint

@@ -21,7 +21,7 @@ module io_hdf5
    implicit none
    private
    public :: hid_t, h5_start, h5_stop, h5_create, h5_open_read, h5_close, h5_write, h5_read, &
-             h5_attr_write, h5_attr_read, h5_length, h5_exists, h5_write_part, file_rename
+             h5_attr_write, h5_attr_read, h5_attr_exists, h5_length, h5_exists, h5_write_part, file_rename
 
    interface h5_write
       module procedure write_r1, write_r2, write_i1
@@ -48,6 +48,26 @@ module io_hdf5
          character(kind=c_char), intent(in) :: old(*), new(*)
          integer(c_int) :: r
       end function c_rename
+      function c_open(path, flags) bind(C, name='open') result(fd)
+         import :: c_int, c_char
+         implicit none
+         ! allow(assumed-size): the char * of C open
+         character(kind=c_char), intent(in) :: path(*)
+         integer(c_int), value :: flags
+         integer(c_int) :: fd
+      end function c_open
+      function c_fsync(fd) bind(C, name='fsync') result(r)
+         import :: c_int
+         implicit none
+         integer(c_int), value :: fd
+         integer(c_int) :: r
+      end function c_fsync
+      function c_close(fd) bind(C, name='close') result(r)
+         import :: c_int
+         implicit none
+         integer(c_int), value :: fd
+         integer(c_int) :: r
+      end function c_close
    end interface
 
    character(len=:), allocatable :: current   ! file being written, for messages
@@ -80,12 +100,32 @@ contains
    end subroutine h5_stop
 
    !> Rename a file (atomic on one file system).
+   !> Rename old to new, old first forced to the disk (fsync) and the rename
+   !> after it: a crash of the machine leaves the old file or the whole new one
+   !> under the name, never a new name over data still in the page cache.
    subroutine file_rename(old, new)
       character(len=*), intent(in) :: old, new
+      integer :: k
+      call file_sync(old)
       if (c_rename(trim(old)//c_null_char, trim(new)//c_null_char) /= 0) then
          call fatal('cannot rename '//trim(old)//' to '//trim(new))
       end if
+      ! the folder holds the name: its entry to the disk too
+      k = index(trim(new), '/', back=.true.)
+      if (k > 1) call file_sync(new(1:k - 1))
    end subroutine file_rename
+
+   !> fsync(2) of a file or folder (read-only open); a failure is not fatal:
+   !> the data are written, only their durability in a machine crash is weaker.
+   subroutine file_sync(path)
+      character(len=*), intent(in) :: path
+      integer(c_int) :: fd, rc
+      integer(c_int), parameter :: o_rdonly = 0
+      fd = c_open(trim(path)//c_null_char, o_rdonly)
+      if (fd < 0) return
+      rc = c_fsync(fd)
+      rc = c_close(fd)
+   end subroutine file_sync
 
    !> A new file; on several ranks every rank calls this, together.
    integer(hid_t) function h5_create(path) result(f)
@@ -113,6 +153,15 @@ contains
       call h5lexists_f(f, name, yes, err)
       if (err < 0) yes = .false.
    end function h5_exists
+
+   !> Whether the file carries the attribute name.
+   logical function h5_attr_exists(f, name) result(yes)
+      integer(hid_t), intent(in) :: f
+      character(len=*), intent(in) :: name
+      integer :: err
+      call h5aexists_f(f, name, yes, err)
+      if (err < 0) yes = .false.
+   end function h5_attr_exists
 
    !> Dataset of total elements along the last dimension (rows values each,
    !> rows = 0 for a one-dimensional one); this rank's n from offset.

@@ -32,7 +32,7 @@ module solver
    use io_hdf5, only: h5_start, h5_stop
    use io_files, only: outdir_prepare, file_text, energy_open, energy_row, energy_close, snap_name
    use io_snapshot, only: snapshot_write, snapshot_index_rebuild
-   use io_checkpoint, only: checkpoint_write, checkpoint_read
+   use io_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_check
    use logger, only: log_open, log_close, log_line, log_progress
    use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup
    use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max, comm_allgather, comm_node_size
@@ -139,7 +139,15 @@ contains
       call h5_start()
       if (c%run%restart) then
          call scene_bodies(c, bodies)
-         call checkpoint_read(out, p, st, bodies, counts, edges, mem)
+         ! the checkpoint must be this case's: its scene made again, only to count it
+         block
+            type(particles_t) :: made
+            type(params_t) :: prm_made
+            type(body_t), allocatable :: bodies_made(:)
+            call scene_build(c, made, prm_made, bodies_made)
+            call checkpoint_check(c%file, out, c%numerics%dp, size(bodies), made%n)
+         end block
+         call checkpoint_read(c%file, out, p, st, bodies, counts, edges, mem)
          call params_init(c, st%y_surface - st%h_swl, st%y_surface, prm)
          call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//out// &
                        '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
@@ -194,7 +202,7 @@ contains
       real(rp), allocatable :: mem(:, :)
       ! without bodies the memory is empty and nothing of it is written
       call contact_memory_get(ct, mem)
-      call checkpoint_write(dir, p, st, bodies, mem)
+      call checkpoint_write(dir, cfg%numerics%dp, p, st, bodies, mem)
    end subroutine checkpoint
 
    !> A checkpoint every checkpoint_every steps, when asked for.

@@ -470,3 +470,70 @@ def test_domain_beyond_the_cell_numbers_is_refused(tmp_path: Path, mbsph: Path) 
     msg = error_line(proc)
     assert f"{CASE}: &domain: " in msg and "cells of the neighbour grid" in msg, msg
     assert not (tmp_path / "OUT").exists()
+
+
+# ------------------------------------------------------------ a restart checks its checkpoint against the case
+
+
+RESTART = edit("max_steps = 1\n", "max_steps = 2\n  restart = .true.\n")
+
+
+def first_run(text: str, tmp_path: Path, mbsph: Path) -> Path:
+    """A run of text that ends with its checkpoint; returns the output folder."""
+    proc, out = run_case(text, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    assert (out / "checkpoint.h5").is_file()
+    return out
+
+
+@pytest.mark.parametrize("change, words", [
+    # a checkpoint without bodies restarted by a case with one: bodies from uninitialised memory
+    ("more_bodies", ("holds 0 bodies, the case 1",)),
+    ("other_dp", ("written at dp = ", "the case has dp = ")),
+    # a wider water column: 138 particles made against the checkpoint's 128
+    ("other_geometry", ("was written by a case of 128 particles, this case makes 138",)),
+])
+def test_restart_of_another_case_is_refused(change: str, words: tuple[str, ...], tmp_path: Path,
+                                            mbsph: Path) -> None:
+    first_run(BASE, tmp_path, mbsph)
+    text = {"more_bodies": RESTART + BODY.format("density = 500.0"),
+            "other_dp": edit("dp = 0.02", "dp = 0.025", RESTART),
+            "other_geometry": edit("xmax = 0.1, ymin = 0.0", "xmax = 0.12, ymin = 0.0", RESTART)}[change]
+    proc, _ = run_case(text, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    assert "checkpoint.h5" in msg, msg
+    for w in words:
+        assert w in msg, msg
+
+
+def test_restart_with_fewer_bodies_is_refused(tmp_path: Path, mbsph: Path) -> None:
+    # a checkpoint with a body restarted by a case without it overflowed the heap
+    first_run(BASE + BODY.format("density = 500.0"), tmp_path, mbsph)
+    proc, _ = run_case(RESTART, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    assert "holds 1 bodies, the case 0" in error_line(proc)
+
+
+def test_restart_from_a_damaged_checkpoint_is_refused(tmp_path: Path, mbsph: Path) -> None:
+    import h5py
+    out = first_run(BASE, tmp_path, mbsph)
+    path = out / "checkpoint.h5"
+    with h5py.File(path, "r") as f:
+        offset = f["rho"].id.get_offset()
+        n = f["rho"].shape[0]
+    assert offset is not None and n > 10
+    # sixteen bytes of the densities overwritten: HDF5 still reads the file
+    data = bytearray(path.read_bytes())
+    data[offset + 8 * (n // 2): offset + 8 * (n // 2) + 16] = bytes(range(1, 17))
+    path.write_bytes(bytes(data))
+    proc, _ = run_case(RESTART, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    assert f"{CASE}: &run: restart: " in msg and "checksum" in msg, msg
+
+
+def test_restart_of_the_same_case_still_runs(tmp_path: Path, mbsph: Path) -> None:
+    first_run(BASE, tmp_path, mbsph)
+    proc, _ = run_case(RESTART, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
