@@ -40,7 +40,7 @@ from typing import Sequence
 import numpy as np
 
 from . import waves
-from .io import read_case, read_csv
+from .io import case_t_end, note_end, read_case, read_csv
 from .plotting import plt, save_figure
 
 __all__ = [
@@ -247,6 +247,8 @@ def analyse(out: str | Path, H: float | None = None, gauge: int | None = None, i
         nml = read_case(out)
     except (FileNotFoundError, OSError):
         nml = None
+    # a run that stopped after a few steps moves no unit: say what time the damage is of
+    note_end(out / "bodies.csv", np.unique(bodies["time"]), case_t_end(nml) if nml is not None else None)
     rho_water = float(layer.meta.get("rho_water", float("nan")))
     if not math.isfinite(rho_water) and nml is not None and "fluid" in nml and "rho0" in nml["fluid"]:
         rho_water = float(nml["fluid"]["rho0"])

@@ -13,6 +13,7 @@ One reader per file kind:
 from __future__ import annotations
 
 import re
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -28,6 +29,9 @@ __all__ = [
     "snapshot_time",
     "closest_snapshots",
     "read_csv",
+    "complete_lines",
+    "note_end",
+    "case_t_end",
     "read_case",
     "fluid_box",
 ]
@@ -211,12 +215,54 @@ def _parse_column(values: list[str]) -> np.ndarray:
         return np.array([float(v) for v in values], dtype=float)
 
 
+def complete_lines(path: str | Path) -> list[str]:
+    """The lines of a series the solver writes row by row, without a last row cut short.
+
+    The solver writes every row whole, newline included. A file that does not end with
+    a newline was cut while a row was being written (a run killed, a full disk): that
+    row may hold a number cut to its first digits (a pressure of 1.96 Pa for 1957), so it
+    is left out, with a note on standard error.
+    """
+    text = Path(path).read_text()
+    lines = text.splitlines()
+    if text and not text.endswith("\n") and lines:
+        print(f"post: {path}: the last line {lines[-1][:40]!r}... is incomplete (the run stopped while "
+              "writing it): left out", file=sys.stderr)
+        lines = lines[:-1]
+    return lines
+
+
+def note_end(path: str | Path, times: np.ndarray, t_end: float | None) -> None:
+    """Say on standard error when a series ends before the case's t_end.
+
+    A run that stopped early (or is still running) leaves series that end before t_end;
+    figures from them describe the time they cover, which is stated.
+    """
+    if t_end is None or len(times) == 0 or not np.isfinite(t_end):
+        return
+    last = float(times[-1])
+    step = float(np.median(np.diff(times))) if len(times) > 2 else 0.0
+    if last < t_end - max(1.5 * step, 1.0e-9 * max(abs(t_end), 1.0)):
+        print(f"post: {path}: the records end at t = {last:.6g} s, before the case's t_end = {t_end:.6g} s "
+              f"(the run stopped early or is still running): the results describe t <= {last:.6g} s",
+              file=sys.stderr)
+
+
+def case_t_end(nml: Any) -> float | None:
+    """``&run t_end`` of a case namelist, or None."""
+    try:
+        return float(nml["run"]["t_end"])
+    except (KeyError, TypeError, ValueError):
+        return None
+
+
 def read_csv(path: str | Path) -> dict[str, np.ndarray]:
     """Read a comma-separated file with one header line into ``{column name: array}``.
 
-    Blank lines are skipped. Columns of integers come back as int64, others as float64.
+    Blank lines are skipped, and a last line cut short (complete_lines). Columns of
+    integers come back as int64, others as float64.
     """
-    lines = [ln.strip() for ln in Path(path).read_text().splitlines()]
+    lines = [ln.strip() for ln in complete_lines(path)]
     lines = [ln for ln in lines if ln]
     if not lines:
         raise ValueError(f"{path}: empty file, no header line")

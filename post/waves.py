@@ -35,7 +35,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .io import fluid_box, read_case
+from .io import case_t_end, complete_lines, fluid_box, note_end, read_case
 from .plotting import plt, save_figure
 
 __all__ = [
@@ -104,7 +104,7 @@ def read_gauges(path: str | Path) -> tuple[list[Gauge], np.ndarray, dict[str, np
         path = path / "gauges.csv"
     comments: list[str] = []
     data: list[str] = []
-    for line in path.read_text().splitlines():
+    for line in complete_lines(path):
         line = line.strip()
         if not line:
             continue
@@ -841,6 +841,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         nml = read_case(args.out)
     except (FileNotFoundError, OSError):
         nml = None
+    note_end(Path(args.out) / "gauges.csv", time, case_t_end(nml) if nml is not None else None)
     wm = wavemaker_settings(nml) if nml is not None else {}
     depth = args.depth
     if depth is None and nml is not None:

@@ -506,3 +506,53 @@ def test_truncated_snapshot_is_named_not_plotted(tank: Path) -> None:
     assert_one_line_error(proc, "plot_field", last.name)
     assert "truncated" in proc.stderr
     assert not list(tank.glob("*.png"))
+
+
+# ------------------------------------------------------------------- records cut short, runs stopped early
+
+GAUGES_TEXT = """\
+# id,kind,x,y
+# 1,pressure,0.100000,0.010000
+time,p_1
+0.00,1957.25
+0.01,1957.31
+0.02,1957.18
+"""
+
+
+def test_a_gauge_row_cut_short_is_left_out(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from post.waves import read_gauges
+    # the run was killed while writing the row of t = 0.03: its pressure 1957.40 reads
+    # as 1.9 (the minimum of the record fell from ~1957 Pa to 1.96 Pa)
+    path = tmp_path / "gauges.csv"
+    path.write_text(GAUGES_TEXT + "0.03,1.9")
+    _, time, columns = read_gauges(path)
+    assert list(time) == [0.0, 0.01, 0.02]
+    assert columns["p_1"].min() == pytest.approx(1957.18)
+    err = capsys.readouterr().err
+    assert "gauges.csv" in err and "incomplete" in err and "left out" in err, err
+    # a whole file is read whole, silently
+    path.write_text(GAUGES_TEXT)
+    _, time, _ = read_gauges(path)
+    assert len(time) == 3 and capsys.readouterr().err == ""
+
+
+def test_a_csv_row_cut_short_is_left_out(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "energy.csv"
+    path.write_text("time,e_kin\n0.0,1.0\n0.1,2.0\n0.2,3")
+    d = read_csv(path)
+    assert list(d["time"]) == [0.0, 0.1] and list(d["e_kin"]) == [1.0, 2.0]
+    assert "incomplete" in capsys.readouterr().err
+
+
+def test_series_ending_before_t_end_is_stated(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from post.io import note_end
+    # bodies.csv of a run that stopped after one step of a 12 s case: post.armour's Nod 0
+    # is the damage of t <= 1e-4 s, and says so
+    note_end(tmp_path / "bodies.csv", np.array([0.0, 1.0e-4]), 12.0)
+    err = capsys.readouterr().err
+    assert "records end at t = 0.0001 s" in err and "t_end = 12 s" in err, err
+    # a series that reaches t_end within its own interval: nothing to say
+    note_end(tmp_path / "bodies.csv", np.arange(0.0, 12.0 + 1e-9, 0.05), 12.0)
+    note_end(tmp_path / "bodies.csv", np.arange(0.0, 11.99, 0.05), 12.0)
+    assert capsys.readouterr().err == ""
