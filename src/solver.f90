@@ -26,7 +26,7 @@ module solver
    use eos, only: eos_update
    use fluid_forces, only: forces_work_t, forces_init
    use kernel_correction, only: shepard_filter
-   use step, only: step_advance, step_dt_ratio
+   use step, only: step_state_t, step_advance, step_dt_ratio
    use bc_motion, only: motion_apply
    use run_state, only: state_t
    use io_hdf5, only: h5_start, h5_stop
@@ -50,6 +50,7 @@ module solver
    type(particles_t) :: p
    type(grid_t) :: g
    type(forces_work_t) :: w
+   type(step_state_t) :: ss
    type(state_t) :: st
    type(body_t), allocatable :: bodies(:)
    type(contact_t) :: ct
@@ -82,7 +83,7 @@ contains
       written = .true.
       do while (.not. done)
          call neighbours()
-         call step_advance(prm, g, p, w, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt, dt_limit)
+         call step_advance(prm, g, p, w, ss, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt, dt_limit)
          if (st%dt > dt_limit) call refuse_fixed_step(dt_limit)
          if (size(bodies) > 0) call contact_memory_advance(ct, bodies, st%dt)
          if (cfg%damping%on) call damping_apply(cfg%damping, p, st%dt)
@@ -619,7 +620,7 @@ contains
       call comm_allgather(p%n_own, counts)
       call log_line('done: t = '//real_str(st%t)//' s after '//int_str(st%istep)//' steps; fluid particles lost: '// &
                     int_str(st%lost_domain + st%lost_density))
-      call step_dt_ratio(ratio, at_step)
+      call step_dt_ratio(ss, ratio, at_step)
       write (line, '("time step: largest dt / CFL limit of a state it reached ",f0.4," (step ",i0, &
             &"), Courant number ",f0.4," (cfl ",f0.3,")")') ratio(1), at_step(1), ratio(1)*prm%cfl, prm%cfl
       call log_line(trim(line))

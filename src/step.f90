@@ -25,14 +25,17 @@ module step
    use comm_halo, only: comm_halo_reverse, comm_halo_refresh
    implicit none
    private
-   public :: step_advance, step_dt_ratio
+   public :: step_state_t, step_advance, step_dt_ratio
 
-   real(rp), allocatable :: x0(:, :), v0(:, :), rho0(:)   ! state at the start of a step
-   real(rp) :: dt_prev = 0.0_rp     ! the last step taken [s]
-   ! largest dt / limit of a state the step reached, and the step where:
-   ! (1) the CFL limits (fluid, body motion), (2) every limit (contacts too)
-   real(rp) :: ratio_max(2) = 0.0_rp
-   integer :: ratio_step(2) = 0
+   !> What the integrators keep from one step to the next, owned by the caller.
+   type :: step_state_t
+      real(rp), allocatable :: x0(:, :), v0(:, :), rho0(:)   !< state at the start of a step
+      real(rp) :: dt_prev = 0.0_rp     !< the last step taken [s]
+      !> largest dt / limit of a state the step reached, and the step where:
+      !> (1) the CFL limits (fluid, body motion), (2) every limit (contacts too)
+      real(rp) :: ratio_max(2) = 0.0_rp
+      integer :: ratio_step(2) = 0
+   end type step_state_t
 
 contains
 
@@ -40,11 +43,12 @@ contains
    !> dt_limit, the stable step of the state at t. istep is the number of the
    !> step being taken (1 for the first). A fixed step above dt_limit is not
    !> taken: the particles and bodies are left as they were at t.
-   subroutine step_advance(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+   subroutine step_advance(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
+      type(step_state_t), intent(inout) :: ss
       type(geom_object), intent(in) :: objs(:)
       logical, intent(in) :: has_moving
       type(body_t), intent(inout) :: bodies(:)
@@ -54,32 +58,34 @@ contains
       real(rp), intent(out) :: dt, dt_limit
       select case (prm%integrator)
       case (integ_verlet)
-         call verlet(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+         call verlet(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
       case (integ_symplectic, integ_predictor_corrector)
-         call two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+         call two_stage(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
       case default  ! none: params sets one of the three (options)
          call fatal('internal error: integrator '//int_str(prm%integrator)//' has no scheme')
       end select
-      if (dt <= dt_limit .or. prm%dt_fixed <= 0.0_rp) dt_prev = dt
+      if (dt <= dt_limit .or. prm%dt_fixed <= 0.0_rp) ss%dt_prev = dt
    end subroutine step_advance
 
    !> The largest ratio of a step to the stable step of a state it reached
    !> since the run (or its restart) began, and the step where it was reached:
    !> (1) against the CFL limits (fluid acoustic-viscous and force, bodies'
    !> acceleration and motion), (2) against every limit, the contacts' too.
-   subroutine step_dt_ratio(rmax, at_step)
+   subroutine step_dt_ratio(ss, rmax, at_step)
+      type(step_state_t), intent(in) :: ss
       real(rp), intent(out) :: rmax(2)
       integer, intent(out) :: at_step(2)
-      rmax = ratio_max
-      at_step = ratio_step
+      rmax = ss%ratio_max
+      at_step = ss%ratio_step
    end subroutine step_dt_ratio
 
    !> The step size of the first stage, the variable step or the fixed one,
    !> and its check against the limit of the state at its start.
-   subroutine first_stage(prm, p, w, bodies, ct, istep, dt, dt_limit)
+   subroutine first_stage(prm, p, w, ss, bodies, ct, istep, dt, dt_limit)
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
       type(forces_work_t), intent(in) :: w
+      type(step_state_t), intent(inout) :: ss
       type(body_t), intent(in) :: bodies(:)
       type(contact_t), intent(in) :: ct
       integer, intent(in) :: istep
@@ -87,24 +93,25 @@ contains
       real(rp) :: dt_cfl
       dt_limit = stage_dt(prm, p, w, bodies, ct, dt_cfl)
       ! the previous step against the limits of the state it ended in
-      call note_ratio(dt_prev, [dt_cfl, dt_limit], istep - 1)
+      call note_ratio(ss, ss%dt_prev, [dt_cfl, dt_limit], istep - 1)
       dt = dt_limit
       if (prm%dt_fixed > 0.0_rp) then
          dt = prm%dt_fixed
-         call note_ratio(dt, [dt_cfl, dt_limit], istep)
+         call note_ratio(ss, dt, [dt_cfl, dt_limit], istep)
       end if
    end subroutine first_stage
 
-   subroutine note_ratio(dt, limits, istep)
+   subroutine note_ratio(ss, dt, limits, istep)
+      type(step_state_t), intent(inout) :: ss
       real(rp), intent(in) :: dt, limits(2)
       integer, intent(in) :: istep
       integer :: k
       if (dt <= 0.0_rp) return
       do k = 1, 2
          if (limits(k) <= 0.0_rp) cycle
-         if (dt/limits(k) > ratio_max(k)) then
-            ratio_max(k) = dt/limits(k)
-            ratio_step(k) = istep
+         if (dt/limits(k) > ss%ratio_max(k)) then
+            ss%ratio_max(k) = dt/limits(k)
+            ss%ratio_step(k) = istep
          end if
       end do
    end subroutine note_ratio
@@ -177,26 +184,28 @@ contains
       dt = min(dt_cfl, -m(4))
    end function stage_dt
 
-   subroutine save_state(p)
+   subroutine save_state(ss, p)
+      type(step_state_t), intent(inout) :: ss
       type(particles_t), intent(in) :: p
       integer :: n
       n = p%n_own
-      if (allocated(rho0)) then
-         if (size(rho0) < n) deallocate (x0, v0, rho0)
+      if (allocated(ss%rho0)) then
+         if (size(ss%rho0) < n) deallocate (ss%x0, ss%v0, ss%rho0)
       end if
-      if (.not. allocated(rho0)) allocate (x0(2, size(p%rho)), v0(2, size(p%rho)), rho0(size(p%rho)))
-      x0(:, 1:n) = p%x(:, 1:n)
-      v0(:, 1:n) = p%v(:, 1:n)
-      rho0(1:n) = p%rho(1:n)
+      if (.not. allocated(ss%rho0)) allocate (ss%x0(2, size(p%rho)), ss%v0(2, size(p%rho)), ss%rho0(size(p%rho)))
+      ss%x0(:, 1:n) = p%x(:, 1:n)
+      ss%v0(:, 1:n) = p%v(:, 1:n)
+      ss%rho0(1:n) = p%rho(1:n)
    end subroutine save_state
 
    !> Symplectic (position Verlet, as in DualSPHysics) or the
    !> predictor-corrector of SPHysics; both evaluate forces twice a step.
-   subroutine two_stage(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+   subroutine two_stage(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
+      type(step_state_t), intent(inout) :: ss
       type(geom_object), intent(in) :: objs(:)
       logical, intent(in) :: has_moving
       type(body_t), intent(inout) :: bodies(:)
@@ -209,11 +218,11 @@ contains
       logical :: symplectic
       symplectic = prm%integrator /= integ_predictor_corrector
       call evaluate(prm, g, p, w, bodies, ct)
-      call first_stage(prm, p, w, bodies, ct, istep, dt, dt_limit)
+      call first_stage(prm, p, w, ss, bodies, ct, istep, dt, dt_limit)
       if (dt > dt_limit) return
       hdt = 0.5_rp*dt
       call timer_start(t_integrate)
-      call save_state(p)
+      call save_state(ss, p)
       ! predictor: half a step with the rates at t
       do i = 1, p%n_own
          p%rho(i) = p%rho(i) + hdt*w%drho(i)
@@ -236,14 +245,14 @@ contains
       call evaluate(prm, g, p, w, bodies, ct)
       ! the step against the limits of the state at its middle
       lim = stage_dt(prm, p, w, bodies, ct, lim_cfl)
-      call note_ratio(dt, [lim_cfl, lim], istep)
+      call note_ratio(ss, dt, [lim_cfl, lim], istep)
       call timer_start(t_integrate)
       if (symplectic) then
          do i = 1, p%n_own
             eps = -(w%drho(i)/p%rho(i))*dt
-            p%rho(i) = rho0(i)*(2.0_rp - eps)/(2.0_rp + eps)
+            p%rho(i) = ss%rho0(i)*(2.0_rp - eps)/(2.0_rp + eps)
             if (p%kind(i) == kind_fluid) then
-               p%v(:, i) = v0(:, i) + dt*w%acc(:, i)
+               p%v(:, i) = ss%v0(:, i) + dt*w%acc(:, i)
                p%x(:, i) = p%x(:, i) + hdt*p%v(:, i)
             else
                p%rho(i) = max(p%rho(i), prm%rho0)
@@ -252,10 +261,10 @@ contains
       else
          ! corrector to t + dt/2 with the mid-step rates, then extrapolate to t + dt
          do i = 1, p%n_own
-            p%rho(i) = 2.0_rp*(rho0(i) + hdt*w%drho(i)) - rho0(i)
+            p%rho(i) = 2.0_rp*(ss%rho0(i) + hdt*w%drho(i)) - ss%rho0(i)
             if (p%kind(i) == kind_fluid) then
-               p%v(:, i) = 2.0_rp*(v0(:, i) + hdt*w%acc(:, i)) - v0(:, i)
-               p%x(:, i) = 2.0_rp*(x0(:, i) + hdt*0.5_rp*(v0(:, i) + p%v(:, i))) - x0(:, i)
+               p%v(:, i) = 2.0_rp*(ss%v0(:, i) + hdt*w%acc(:, i)) - ss%v0(:, i)
+               p%x(:, i) = 2.0_rp*(ss%x0(:, i) + hdt*0.5_rp*(ss%v0(:, i) + p%v(:, i))) - ss%x0(:, i)
             else
                p%rho(i) = max(p%rho(i), prm%rho0)
             end if
@@ -276,11 +285,12 @@ contains
 
    !> Verlet: a leapfrog over two steps, with an Euler step every
    !> verlet_every steps to keep the two interleaved solutions together.
-   subroutine verlet(prm, g, p, w, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+   subroutine verlet(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
+      type(step_state_t), intent(inout) :: ss
       type(geom_object), intent(in) :: objs(:)
       logical, intent(in) :: has_moving
       type(body_t), intent(inout) :: bodies(:)
@@ -292,7 +302,7 @@ contains
       real(rp) :: vnew(2), rnew, dt2, hdt2
       logical :: euler
       call evaluate(prm, g, p, w, bodies, ct)
-      call first_stage(prm, p, w, bodies, ct, istep, dt, dt_limit)
+      call first_stage(prm, p, w, ss, bodies, ct, istep, dt, dt_limit)
       if (dt > dt_limit) return
       call timer_start(t_integrate)
       euler = mod(istep, prm%verlet_every) == 0
