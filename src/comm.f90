@@ -30,6 +30,11 @@ module comm
          implicit none
          integer(c_int), value :: status
       end subroutine c_exit
+      subroutine c_exit_now(status) bind(C, name='_exit')
+         import :: c_int
+         implicit none
+         integer(c_int), value :: status
+      end subroutine c_exit_now
       function c_usleep(usec) bind(C, name='usleep') result(r)
          import :: c_int
          implicit none
@@ -84,13 +89,19 @@ contains
 
    !> Stop every rank with a non-zero exit code. On one rank MPI is closed
    !> cleanly so that the user sees only our message, not MPI's abort banner.
-   subroutine comm_abort(code)
+   !> hard: exit at once (_exit), without the exit handlers of the libraries,
+   !> when one of them is left in a state its handler cannot clean up.
+   subroutine comm_abort(code, hard)
       integer, intent(in) :: code
-      logical :: init
+      logical, intent(in), optional :: hard
+      logical :: init, now
+      now = .false.
+      if (present(hard)) now = hard
       call MPI_Initialized(init)
       if (init .and. n_ranks > 1) then
          call MPI_Abort(MPI_COMM_WORLD, code)
       end if
+      if (now) call c_exit_now(int(code, c_int))
       call comm_finalize()
       ! exit through the C library: our message stays the only output
       ! (error stop would add the runtime's own lines and a backtrace)

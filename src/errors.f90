@@ -7,14 +7,15 @@ module errors
    use logger, only: log_error
    implicit none
    private
-   public :: fatal, input_error
+   public :: fatal, input_error, alloc_check
 
 contains
 
    !> Stop the run with a message. Exit code 1 (2 for input errors).
-   subroutine fatal(msg, code)
+   subroutine fatal(msg, code, hard)
       character(len=*), intent(in) :: msg
       integer, intent(in), optional :: code
+      logical, intent(in), optional :: hard   !< exit without the libraries' exit handlers
       character(len=16) :: r
       integer :: c
       c = 1
@@ -26,7 +27,7 @@ contains
       else
          call log_error('mbsph: error: '//msg)
       end if
-      call comm_abort(c)
+      call comm_abort(c, hard)
    end subroutine fatal
 
    !> Stop on bad input, naming the file, the namelist group and the variable.
@@ -38,5 +39,19 @@ contains
          call fatal(trim(file)//': &'//trim(group)//': '//msg, 2)
       end if
    end subroutine input_error
+
+   !> After allocate(..., stat=stat, errmsg=msg): stop with one line when the
+   !> memory was refused (the size check before the run estimates it; a run
+   !> that grows beyond it still ends with a message, not a crash).
+   subroutine alloc_check(stat, msg, what, n)
+      integer, intent(in) :: stat
+      character(len=*), intent(in) :: msg, what
+      integer, intent(in) :: n          !< elements asked for (particles, pairs, cells)
+      character(len=16) :: b
+      if (stat == 0) return
+      write (b, '(i0)') n
+      call fatal('out of memory: cannot allocate '//what//' for '//trim(b)//' (' //trim(msg)// &
+                 '): raise dp, or run on more ranks or where more memory is available')
+   end subroutine alloc_check
 
 end module errors

@@ -7,6 +7,7 @@
 !> model, density diffusion and gradient correction.
 module fluid_forces
    use kinds, only: rp
+   use errors, only: alloc_check
    use constants, only: kind_fluid
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive
    use grid, only: grid_t, grid_ranges, grid_last_cell
@@ -110,11 +111,15 @@ contains
       type(forces_work_t), intent(inout) :: w
       integer, intent(in) :: nmax
       type(params_t), intent(in) :: prm
+      integer :: ist
+      character(len=200) :: emsg
       if (allocated(w%acc)) then
          if (size(w%drho) >= nmax) return
          deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau)
       end if
-      allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the force arrays', nmax)
       ! arrays of models that are off stay minimal
       if (prm%diffusion /= diff_none) then
          allocate (w%rhod(nmax))

@@ -14,6 +14,7 @@
 !> first and the halo (the last column) after them.
 module grid
    use kinds, only: rp
+   use errors, only: alloc_check
    use particles, only: particles_t, particles_permute
    implicit none
    private
@@ -48,6 +49,8 @@ contains
       type(grid_t), intent(out) :: g
       real(rp), intent(in) :: xmin, xmax, ymin, ymax, h
       integer, intent(in), optional :: col_lo, col_hi
+      integer :: ist
+      character(len=200) :: emsg
       g%cs = 2.0_rp*h
       g%x0 = xmin
       g%y0 = ymin
@@ -64,7 +67,8 @@ contains
       g%ny = g%ncy + 2*g%reach
       g%stride = g%ny
       g%ncell = (g%ncol + 2)*g%ny
-      allocate (g%cstart(g%ncell + 2))
+      allocate (g%cstart(g%ncell + 2), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the cells of the neighbour grid', g%ncell + 2)
    end subroutine grid_init
 
    !> Cell column (0-based, over the whole domain) of abscissa x; points
@@ -129,12 +133,18 @@ contains
       type(particles_t), intent(inout) :: p
       logical, intent(in) :: drop(:)
       logical, intent(in), optional :: cells   !< also fill g%icell (the contact loop needs it)
+      integer :: ist
+      character(len=200) :: emsg
       integer :: i, c, n, nkeep
       n = p%n
       if (allocated(g%cell)) then
          if (size(g%cell) < size(p%rho)) deallocate (g%cell, g%perm, g%icell)
       end if
-      if (.not. allocated(g%cell)) allocate (g%cell(size(p%rho)), g%perm(size(p%rho)), g%icell(size(p%rho)))
+      if (.not. allocated(g%cell)) then
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (g%cell(size(p%rho)), g%perm(size(p%rho)), g%icell(size(p%rho)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'the sort of the particles', size(p%rho))
+      end if
       g%cstart = 0
       do i = 1, n
          if (drop(i)) then

@@ -3,7 +3,7 @@
 module io_bodies
    use kinds, only: rp
    use constants, only: msg_len
-   use io_files, only: csv_rows_until
+   use io_files, only: csv_rows_until, csv_flush
    use body_dynamics, only: body_t
    use errors, only: fatal
    implicit none
@@ -34,7 +34,7 @@ contains
       opened = .true.
       write (unit_, '(a)') header
       if (len(keep) > 0) write (unit_, '(a)', advance='no') keep
-      flush (unit_)
+      call csv_flush(unit_, 'bodies.csv')
    end subroutine bodies_csv_open
 
    subroutine bodies_csv_row(t, bodies)
@@ -49,7 +49,7 @@ contains
                norm2(x%c - x%c_start), x%theta - x%theta_start
          end associate
       end do
-      flush (unit_)
+      call csv_flush(unit_, 'bodies.csv')
    end subroutine bodies_csv_row
 
    subroutine bodies_csv_close()

@@ -1,11 +1,12 @@
 !> The output folder: refuse to overwrite a run unless asked, create it,
 !> and keep energy.csv consistent with a restart.
 module io_files
+   use, intrinsic :: iso_fortran_env, only: int64
    use kinds, only: rp
    use constants, only: path_len, msg_len
    use errors, only: input_error, fatal
    use input_check, only: int_str
-   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_size_t
    implicit none
    private
 
@@ -18,8 +19,26 @@ module io_files
          character(kind=c_char), dimension(*), intent(in) :: path
          integer(c_int), value, intent(in) :: mode
       end function c_mkdir
+      integer(c_int) function c_getpid() bind(C, name='getpid')
+         import :: c_int
+         implicit none
+      end function c_getpid
+      !> kill(pid, 0): 0 while the process exists
+      integer(c_int) function c_kill(pid, sig) bind(C, name='kill')
+         import :: c_int
+         implicit none
+         integer(c_int), value, intent(in) :: pid, sig
+      end function c_kill
+      integer(c_int) function c_gethostname(name, n) bind(C, name='gethostname')
+         import :: c_int, c_char, c_size_t
+         implicit none
+         ! allow(assumed-size, assumed-size-character-intent): a C string buffer that gethostname fills
+         character(kind=c_char), dimension(*), intent(out) :: name
+         integer(c_size_t), value, intent(in) :: n
+      end function c_gethostname
    end interface
-   public :: outdir_prepare, file_exists, file_text, snap_name, energy_open, energy_row, energy_close, csv_rows_until
+   public :: csv_flush, dir_writable, text_hash, outdir_unlock, outdir_prepare, file_exists, file_text, snap_name, &
+             energy_open, energy_row, energy_close, csv_rows_until
 
    integer :: energy_unit = 0
    logical :: energy_opened = .false.   !< newunit= numbers are negative: keep a flag
@@ -66,14 +85,21 @@ contains
       if (restart) then
          if (.not. file_exists(trim(d)//'/checkpoint.h5')) call input_error(case_file, 'run', 'restart', &
             'restart = .true. needs '//trim(d)//'/checkpoint.h5, which does not exist')
+         call outdir_lock(case_file, d)
          return
       end if
       held = [file_exists(trim(d)//'/case.nml'), file_exists(trim(d)//'/checkpoint.h5'), &
               file_exists(snap_name(d, 0)), file_exists(trim(d)//'/energy.csv')]
+      if (any(held) .and. .not. overwrite) call input_error(case_file, 'run', 'out_dir', "the folder '"//trim(d)// &
+         "' already holds a run; set overwrite = .true. to replace it, restart = .true. to continue it,"// &
+         ' or choose another out_dir')
+      call make_dirs(trim(d))
+      ok = dir_writable(d)
+      if (.not. ok) call input_error(case_file, 'run', 'out_dir', &
+         "cannot create or write the folder '"//trim(d)//"'")
+      ! a run still writing here keeps its files: the lock before any is deleted
+      call outdir_lock(case_file, d)
       if (any(held)) then
-         if (.not. overwrite) call input_error(case_file, 'run', 'out_dir', "the folder '"//trim(d)// &
-            "' already holds a run; set overwrite = .true. to replace it, restart = .true. to continue it,"// &
-            ' or choose another out_dir')
          k = 0
          do while (file_exists(snap_name(d, k)))
             call delete_file(snap_name(d, k))
@@ -85,11 +111,88 @@ contains
             call delete_file(trim(d)//'/'//trim(run_files(k)))
          end do
       end if
-      call make_dirs(trim(d))
-      ok = dir_writable(d)
-      if (.not. ok) call input_error(case_file, 'run', 'out_dir', &
-         "cannot create or write the folder '"//trim(d)//"'")
    end subroutine outdir_prepare
+
+   !> Claim the folder for this run: out_dir/.mbsph.lock holds 'host pid' of
+   !> the run writing into it. A lock of a process that no longer exists on
+   !> this machine (a run killed) is taken over; a live one stops this run.
+   subroutine outdir_lock(case_file, d)
+      character(len=*), intent(in) :: case_file, d
+      character(len=:), allocatable :: path
+      character(len=256) :: host, other
+      character(len=msg_len) :: msg
+      integer :: u, ios, pid, attempt
+      path = trim(d)//'/.mbsph.lock'
+      host = host_name()
+      do attempt = 1, 2
+         ! status='new' creates the file only if it does not exist (O_EXCL): one run wins
+         open (newunit=u, file=path, status='new', action='write', iostat=ios, iomsg=msg)
+         if (ios == 0) then
+            write (u, '(a,1x,i0)') trim(host), c_getpid()
+            close (u)
+            return
+         end if
+         other = ''
+         pid = -1
+         open (newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+         if (ios == 0) then
+            read (u, *, iostat=ios, iomsg=msg) other, pid
+            if (ios /= 0) other = ''
+            close (u)
+         end if
+         if (other == host .and. pid > 0) then
+            if (process_alive(pid)) call input_error(case_file, 'run', 'out_dir', "the folder '"// &
+               trim(d)//"' is in use by another run (process "//int_str(pid)//' on this machine, '//path// &
+               '): wait for it to end, or choose another out_dir')
+         else if (len_trim(other) > 0) then
+            call input_error(case_file, 'run', 'out_dir', "the folder '"//trim(d)//"' is in use by a run on "// &
+               trim(other)//' (process '//int_str(pid)//', '//path//'); if that run has ended, delete '//path)
+         end if
+         ! the run that held it is gone (or the lock is unreadable): take it over
+         call delete_file(path)
+      end do
+      call input_error(case_file, 'run', 'out_dir', 'cannot create the lock '//path)
+   end subroutine outdir_lock
+
+   !> The process pid runs on this machine: it exists (kill(pid, 0)) and is not
+   !> a zombie, a process killed but not yet reaped by its parent.
+   logical function process_alive(pid)
+      integer, intent(in) :: pid
+      character(len=512) :: line
+      character(len=msg_len) :: msg
+      integer :: u, ios, k
+      process_alive = c_kill(int(pid, c_int), 0_c_int) == 0
+      if (.not. process_alive) return
+      open (newunit=u, file='/proc/'//int_str(pid)//'/stat', status='old', action='read', iostat=ios, iomsg=msg)
+      if (ios /= 0) return
+      read (u, '(a)', iostat=ios, iomsg=msg) line
+      close (u)
+      if (ios /= 0) return
+      ! 'pid (name) S ...': the state follows the name's closing parenthesis
+      k = index(line, ')', back=.true.)
+      if (k > 0 .and. k + 2 <= len(line)) process_alive = line(k + 2:k + 2) /= 'Z'
+   end function process_alive
+
+   !> Release the folder at the end of a run.
+   subroutine outdir_unlock(d)
+      character(len=*), intent(in) :: d
+      call delete_file(trim(d)//'/.mbsph.lock')
+   end subroutine outdir_unlock
+
+   function host_name() result(h)
+      integer, parameter :: host_len = 256
+      character(len=host_len) :: h
+      character(kind=c_char) :: b(host_len)
+      integer :: k
+      h = 'localhost'
+      b = c_null_char
+      if (c_gethostname(b, int(size(b) - 1, c_size_t)) /= 0) return
+      h = ''
+      chars: do k = 1, size(b) - 1
+         if (b(k) == c_null_char) exit chars
+         h(k:k) = b(k)
+      end do chars
+   end function host_name
 
    !> mkdir -p without a shell: mkdir(2) on every prefix of the path that ends at a
    !> '/', then on the whole path. Failures (the folder exists, no permission) are
@@ -103,13 +206,18 @@ contains
       rc = c_mkdir(d//c_null_char, int(o'755', c_int))
    end subroutine make_dirs
 
+   !> A file can be made in folder d (a test file of this process's own name:
+   !> several ranks may test the same folder at once).
    logical function dir_writable(d)
       character(len=*), intent(in) :: d
       integer :: u, ios
       character(len=msg_len) :: msg
-      open (newunit=u, file=trim(d)//'/.mbsph_write_test', status='replace', action='write', iostat=ios, iomsg=msg)
+      open (newunit=u, file=trim(d)//'/.mbsph_write_test_'//int_str(c_getpid()), status='replace', action='write', &
+            iostat=ios, iomsg=msg)
       dir_writable = ios == 0
-      if (ios == 0) close (u, status='delete')
+      if (ios /= 0) return
+      close (u, status='delete', iostat=ios, iomsg=msg)
+      dir_writable = ios == 0
    end function dir_writable
 
    !> Whole text of a file, lines joined with newlines.
@@ -129,6 +237,20 @@ contains
       end do
       close (u)
    end function file_text
+
+   !> A number that differs, but for a chance of 1 in 2e9, between two
+   !> different texts (a polynomial hash modulo a prime).
+   integer function text_hash(s) result(h)
+      character(len=*), intent(in) :: s
+      integer(int64) :: a
+      integer :: k
+      integer(int64), parameter :: prime = 2147483629_int64
+      a = 0
+      do k = 1, len(s)
+         a = mod(a*257_int64 + iachar(s(k:k)), prime)
+      end do
+      h = int(a)
+   end function text_hash
 
    !> Open energy.csv: a new file, or on restart the old one cut back to the
    !> rows written before the checkpoint (steps <= last_step).
@@ -167,7 +289,7 @@ contains
       energy_opened = .true.
       write (energy_unit, '(a)') 'time,step,kinetic,potential,total_mass,n_fluid,lost,body_kinetic,body_potential,max_penetration'
       if (len(keep) > 0) write (energy_unit, '(a)', advance='no') keep
-      flush (energy_unit)
+      call csv_flush(energy_unit, 'energy.csv')
    end subroutine energy_open
 
    subroutine energy_row(t, istep, ekin, epot, mass, n_fluid, lost, bkin, bpot, pen)
@@ -176,8 +298,20 @@ contains
       if (.not. energy_opened) return
       write (energy_unit, '(es23.15e3,",",i0,3(",",es23.15e3),",",i0,",",i0,3(",",es23.15e3))') t, istep, &
          ekin, epot, mass, n_fluid, lost, bkin, bpot, pen
-      flush (energy_unit)
+      call csv_flush(energy_unit, 'energy.csv')
    end subroutine energy_row
+
+   !> Flush a series' unit to the file; a write the system refuses (a full
+   !> disk) stops the run with one line naming the file.
+   subroutine csv_flush(u, name)
+      integer, intent(in) :: u
+      character(len=*), intent(in) :: name
+      integer :: ios
+      character(len=msg_len) :: msg
+      flush (u, iostat=ios, iomsg=msg)
+      if (ios /= 0) call fatal('cannot write '//name//' in the output folder: '//trim(msg)// &
+                               ' (the rows before it are whole)')
+   end subroutine csv_flush
 
    subroutine energy_close()
       if (energy_opened) close (energy_unit)

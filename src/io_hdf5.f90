@@ -6,7 +6,7 @@
 !> others, and attributes are written by all ranks with the same values.
 !> Files are read by each rank on its own.
 module io_hdf5
-   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_long
    use kinds, only: rp
    use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5close_f, h5fcreate_f, h5fopen_f, h5fclose_f, &
                    h5screate_simple_f, h5screate_f, h5sclose_f, h5dcreate_f, h5dopen_f, h5dclose_f, &
@@ -15,13 +15,22 @@ module io_hdf5
                    h5aexists_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, H5S_SCALAR_F, H5T_NATIVE_DOUBLE, &
                    H5T_NATIVE_INTEGER, H5T_FORTRAN_S1, h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, &
                    h5pset_dxpl_mpio_f, h5sselect_hyperslab_f, h5sselect_none_f, h5lexists_f, H5P_FILE_ACCESS_F, &
-                   H5P_DATASET_XFER_F, H5FD_MPIO_COLLECTIVE_F, H5S_SELECT_SET_F, H5P_DEFAULT_F
+                   H5P_DATASET_XFER_F, H5FD_MPIO_COLLECTIVE_F, H5S_SELECT_SET_F, H5P_DEFAULT_F, h5eset_auto_f
    use errors, only: fatal
    use comm, only: comm_size, comm_rank, comm_handle, comm_info_handle
    implicit none
    private
    public :: hid_t, h5_start, h5_stop, h5_create, h5_open_read, h5_close, h5_write, h5_read, &
              h5_attr_write, h5_attr_read, h5_attr_exists, h5_length, h5_exists, h5_write_part, file_rename
+
+   integer, parameter :: statvfs_spare = 6   !< the ints that end struct statvfs
+
+   !> struct statvfs of Linux x86-64: eleven 8-byte fields, then six ints
+   type, bind(c) :: statvfs_t
+      integer(c_long) :: bsize = 0, frsize = 0, blocks = 0, bfree = 0, bavail = 0, files = 0, ffree = 0, &
+                         favail = 0, fsid = 0, flag = 0, namemax = 0
+      integer(c_int) :: spare(statvfs_spare) = 0
+   end type statvfs_t
 
    interface h5_write
       module procedure write_r1, write_r2, write_i1
@@ -68,9 +77,26 @@ module io_hdf5
          integer(c_int), value :: fd
          integer(c_int) :: r
       end function c_close
+      function c_statvfs(path, buf) bind(C, name='statvfs') result(r)
+         import :: c_int, c_char, statvfs_t
+         implicit none
+         ! allow(assumed-size): the char * of C statvfs
+         character(kind=c_char), intent(in) :: path(*)
+         type(statvfs_t), intent(out) :: buf
+         integer(c_int) :: r
+      end function c_statvfs
+      function c_unlink(path) bind(C, name='unlink') result(r)
+         import :: c_int, c_char
+         implicit none
+         ! allow(assumed-size): the char * of C unlink
+         character(kind=c_char), intent(in) :: path(*)
+         integer(c_int) :: r
+      end function c_unlink
    end interface
 
    character(len=:), allocatable :: current   ! file being written, for messages
+   logical :: writing = .false.               ! current is being written (not read)
+   character(len=:), allocatable :: last_whole   ! the last file written and closed whole
    integer(hid_t) :: xfer = 0                 ! transfer properties of the writes
 
 contains
@@ -78,13 +104,45 @@ contains
    subroutine check(err, what)
       integer, intent(in) :: err
       character(len=*), intent(in) :: what
-      if (err < 0) call fatal('HDF5: '//what//' failed for '//current)
+      if (err >= 0) return
+      if (writing) call write_failed(what)
+      call fatal('HDF5: '//what//' failed for '//current)
    end subroutine check
+
+   !> A file being written could not be: one line naming it and the cause (a
+   !> full disk said as such), the partial file removed, and the files that
+   !> are whole named. The exit skips the library's own exit handlers, which
+   !> would touch the broken file again (a segmentation fault after the message).
+   subroutine write_failed(what)
+      character(len=*), intent(in) :: what
+      character(len=:), allocatable :: dir, msg
+      type(statvfs_t) :: sv
+      integer :: k
+      integer(c_int) :: rc
+      logical :: ckpt
+      k = index(current, '/', back=.true.)
+      dir = '.'
+      if (k > 1) dir = current(1:k - 1)
+      msg = 'cannot write '//current//' (HDF5: '//what//' failed)'
+      if (c_statvfs(dir//c_null_char, sv) == 0) then
+         ! a few blocks left count as full: HDF5 writes in larger pieces
+         if (real(sv%bavail, rp)*real(sv%frsize, rp) < 1.0e6_rp) msg = 'cannot write '//current// &
+            ': no space left on device ('//dir//')'
+      end if
+      rc = c_unlink(current//c_null_char)
+      if (rc == 0) msg = msg//'; the partial file is removed'
+      if (allocated(last_whole)) msg = msg//'; the last file written whole is '//last_whole
+      inquire (file=dir//'/checkpoint.h5', exist=ckpt)
+      if (ckpt) msg = msg//'; '//dir//'/checkpoint.h5 is whole (replaced only by renaming a finished file)'
+      call fatal(msg, hard=.true.)
+   end subroutine write_failed
 
    subroutine h5_start()
       integer :: err
       call h5open_f(err)
       if (err < 0) call fatal('HDF5: cannot initialise the library')
+      ! errors are reported by check, in one line: not the library's stack of forty
+      call h5eset_auto_f(0, err)
       xfer = H5P_DEFAULT_F
       if (comm_size() > 1) then
          call h5pcreate_f(H5P_DATASET_XFER_F, xfer, err)
@@ -133,6 +191,7 @@ contains
       integer :: err
       integer(hid_t) :: fapl
       current = trim(path)
+      writing = .true.
       if (comm_size() > 1) then
          call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
          call h5pset_fapl_mpio_f(fapl, comm_handle(), comm_info_handle(), err)
@@ -271,6 +330,7 @@ contains
       integer :: err
       logical :: exists
       current = trim(path)
+      writing = .false.
       inquire (file=trim(path), exist=exists)
       if (.not. exists) call fatal('file not found: '//trim(path))
       call h5fopen_f(trim(path), H5F_ACC_RDONLY_F, f, err)
@@ -282,6 +342,8 @@ contains
       integer :: err
       call h5fclose_f(f, err)
       call check(err, 'close')
+      if (writing) last_whole = current
+      writing = .false.
    end subroutine h5_close
 
    subroutine write_r1(f, name, a)

@@ -13,6 +13,7 @@
 !> as partners j.
 module nbr_list
    use kinds, only: rp
+   use errors, only: alloc_check
    use grid, only: grid_t, grid_ranges, grid_last_cell
    use kernel, only: kernel_cubic
    implicit none
@@ -43,6 +44,8 @@ contains
       real(rp), intent(in) :: h, support2, fw
       integer :: c, i, j, r, m, jlo(2), jhi(2), need
       real(rp) :: xi, yi, dx, dy, r2, q, hinv
+      integer :: ist
+      character(len=200) :: emsg
       if (.not. allocated(nb%first)) allocate (nb%first(n + 1))
       if (size(nb%first) < n + 1) then
          deallocate (nb%first)
@@ -50,7 +53,11 @@ contains
       end if
       ! a first guess of the size (13 pairs a particle at h = sqrt(2) dp, 16 at
       ! 1.6 dp): grown by a quarter when short, so that it stays close to the need
-      if (.not. allocated(nb%j)) allocate (nb%j(max(8*n, 1024)), nb%f(max(8*n, 1024)))
+      if (.not. allocated(nb%j)) then
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (nb%j(max(8*n, 1024)), nb%f(max(8*n, 1024)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'the pair list', max(8*n, 1024))
+      end if
       nb%n = n
       m = 0
       do c = 1, grid_last_cell(g)
@@ -101,8 +108,12 @@ contains
       integer, allocatable :: jn(:)
       real(rp), allocatable :: fn(:)
       integer :: cap
+      integer :: ist
+      character(len=200) :: emsg
       cap = max(need, size(nb%j) + size(nb%j)/4)
-      allocate (jn(cap), fn(cap))
+      ! allow(multiple-allocations-with-stat): either refused is the same stop
+      allocate (jn(cap), fn(cap), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the pair list', cap)
       jn(1:size(nb%j)) = nb%j
       fn(1:size(nb%f)) = nb%f
       call move_alloc(jn, nb%j)

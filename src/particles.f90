@@ -1,6 +1,7 @@
 !> The particle store: structure of arrays, vectors shaped (ndim, n).
 module particles
    use kinds, only: rp
+   use errors, only: alloc_check
    use constants, only: ndim
    implicit none
    private
@@ -35,11 +36,15 @@ contains
    subroutine particles_alloc(p, nmax)
       type(particles_t), intent(inout) :: p
       integer, intent(in) :: nmax
+      integer :: ist
+      character(len=200) :: emsg
       if (allocated(p%x)) deallocate (p%x, p%v, p%rho, p%p, p%mass, p%nrm, p%xb, p%nb, p%vm1, p%rhom1, &
                                       p%kind, p%body, p%id, p%surf)
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (p%x(ndim, nmax), p%v(ndim, nmax), p%rho(nmax), p%p(nmax), p%mass(nmax), &
                 p%nrm(ndim, nmax), p%xb(ndim, nmax), p%nb(ndim, nmax), p%vm1(ndim, nmax), p%rhom1(nmax), &
-                p%kind(nmax), p%body(nmax), p%id(nmax), p%surf(nmax))
+                p%kind(nmax), p%body(nmax), p%id(nmax), p%surf(nmax), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the particle store', nmax)
       p%n = 0
       p%n_own = 0
    end subroutine particles_alloc

@@ -8,7 +8,7 @@ module probe_gauges
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use kinds, only: rp
    use constants, only: kind_fluid, msg_len
-   use io_files, only: csv_rows_until
+   use io_files, only: csv_rows_until, csv_flush
    use input_wave, only: gauge_cfg
    use params, only: params_t
    use grid, only: grid_t, grid_column, grid_cell
@@ -57,7 +57,7 @@ contains
       end do
       write (unit_, '(a)') head
       if (len(keep) > 0) write (unit_, '(a)', advance='no') keep
-      flush (unit_)
+      call csv_flush(unit_, 'gauges.csv')
    end subroutine gauges_open
 
    !> One row: the value of every gauge at time t (every rank calls it; rank
@@ -77,7 +77,7 @@ contains
          write (unit_, '(",",es23.15e3)', advance='no') val(k)
       end do
       write (unit_, '()')
-      flush (unit_)
+      call csv_flush(unit_, 'gauges.csv')
    end subroutine gauges_sample
 
    subroutine gauges_close()

@@ -30,7 +30,8 @@ module solver
    use bc_motion, only: motion_apply
    use run_state, only: state_t
    use io_hdf5, only: h5_start, h5_stop
-   use io_files, only: outdir_prepare, file_text, energy_open, energy_row, energy_close, snap_name
+   use io_files, only: outdir_prepare, outdir_unlock, dir_writable, text_hash, file_text, energy_open, energy_row, &
+                       energy_close, snap_name
    use io_snapshot, only: snapshot_write, snapshot_index_rebuild
    use io_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_check
    use logger, only: log_open, log_close, log_line, log_progress
@@ -67,7 +68,7 @@ contains
 
    subroutine solver_run(c)
       type(case_cfg), intent(in) :: c
-      real(rp) :: dt_floor, wall_last, dt_limit
+      real(rp) :: dt_floor, wall_last
       logical :: done, written
       call setup(c)
 
@@ -83,8 +84,8 @@ contains
       written = .true.
       do while (.not. done)
          call neighbours()
-         call step_advance(prm, g, p, w, ss, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt, dt_limit)
-         if (st%dt > dt_limit) call refuse_fixed_step(dt_limit)
+         call step_advance(prm, g, p, w, ss, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt)
+         if (st%dt > ss%dt_limit) call refuse_fixed_step(ss%dt_limit)
          if (size(bodies) > 0) call contact_memory_advance(ct, bodies, st%dt)
          if (cfg%damping%on) call damping_apply(cfg%damping, p, st%dt)
          st%t = st%t + st%dt
@@ -116,6 +117,7 @@ contains
       call gauges_close()
       call h5_stop()
       call log_close()
+      if (comm_rank() == 0) call outdir_unlock(out)
    end subroutine solver_run
 
    !> Everything before the first step: the output folder, the particles
@@ -131,11 +133,13 @@ contains
       ! touched: with overwrite = .true. a case refused here keeps the old run
       call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, wave_report)
       call check_ranks(c)
+      call check_same_case(c)
       call check_size(c)
       if (.not. c%run%restart) call scene_build(c, p, prm, bodies)
       ! one rank prepares the folder; the others wait for it (or for its abort)
       if (comm_rank() == 0) call outdir_prepare(c%file, out, c%run%overwrite, c%run%restart)
       call comm_barrier()
+      call check_folder_seen(c)
       call log_open(out//'/run.log', c%run%restart)
       call h5_start()
       if (c%run%restart) then
@@ -259,6 +263,37 @@ contains
       end if
       call timer_stop(t_grid)
    end subroutine neighbours
+
+   !> Every rank read the same case file; otherwise all stop with one message
+   !> (ranks that disagree would wait for each other for ever).
+   subroutine check_same_case(c)
+      type(case_cfg), intent(in) :: c
+      real(rp) :: m(2)
+      integer :: h
+      if (comm_size() == 1) return
+      h = text_hash(file_text(c%file))
+      ! the largest and the smallest hash
+      m = [real(h, rp), -real(h, rp)]
+      call comm_max(m)
+      if (nint(m(1)) /= nint(-m(2))) call fatal(trim(c%file)//': the ranks did not all read the same case file '// &
+         '(its text differs between ranks): start every rank on one case file', 2)
+   end subroutine check_same_case
+
+   !> Every rank sees the output folder rank 0 prepared; otherwise all stop
+   !> with one message (a rank that cannot open its file would hang the others
+   !> in the first collective write).
+   subroutine check_folder_seen(c)
+      type(case_cfg), intent(in) :: c
+      real(rp) :: m(2)
+      if (comm_size() == 1) return
+      ! the first rank that cannot write the folder, and whether there is one
+      m = [-huge(1.0_rp), 0.0_rp]
+      if (.not. dir_writable(out)) m = [-real(comm_rank(), rp), 1.0_rp]
+      call comm_max(m)
+      if (m(2) > 0.0_rp) call input_error(c%file, 'run', 'out_dir', 'rank '//int_str(nint(-m(1)))// &
+         " cannot write the folder '"//out//"' that rank 0 prepared: give every rank the same working "// &
+         'directory and file system, or an absolute out_dir they all see')
+   end subroutine check_folder_seen
 
    !> Enough cell columns for the ranks: each rank's slab is one column at least.
    subroutine check_ranks(c)

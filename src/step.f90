@@ -20,7 +20,7 @@ module step
                             bodies_sum_ranks, bodies_prescribe
    use contact, only: contact_t, contact_forces
    use comm, only: comm_max
-   use errors, only: fatal
+   use errors, only: fatal, alloc_check
    use input_check, only: int_str
    use comm_halo, only: comm_halo_reverse, comm_halo_refresh
    implicit none
@@ -31,6 +31,7 @@ module step
    type :: step_state_t
       real(rp), allocatable :: x0(:, :), v0(:, :), rho0(:)   !< state at the start of a step
       real(rp) :: dt_prev = 0.0_rp     !< the last step taken [s]
+      real(rp) :: dt_limit = 0.0_rp    !< the stable step of the state the last step started from [s]
       !> largest dt / limit of a state the step reached, and the step where:
       !> (1) the CFL limits (fluid, body motion), (2) every limit (contacts too)
       real(rp) :: ratio_max(2) = 0.0_rp
@@ -40,10 +41,10 @@ module step
 contains
 
    !> One step of the chosen integrator from time t. Returns the dt taken and
-   !> dt_limit, the stable step of the state at t. istep is the number of the
-   !> step being taken (1 for the first). A fixed step above dt_limit is not
+   !> ss%dt_limit, the stable step of the state at t. istep is the number of the
+   !> step being taken (1 for the first). A fixed step above ss%dt_limit is not
    !> taken: the particles and bodies are left as they were at t.
-   subroutine step_advance(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+   subroutine step_advance(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
@@ -55,16 +56,16 @@ contains
       type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
       integer, intent(in) :: istep
-      real(rp), intent(out) :: dt, dt_limit
+      real(rp), intent(out) :: dt
       select case (prm%integrator)
       case (integ_verlet)
-         call verlet(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+         call verlet(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt)
       case (integ_symplectic, integ_predictor_corrector)
-         call two_stage(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+         call two_stage(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt)
       case default  ! none: params sets one of the three (options)
          call fatal('internal error: integrator '//int_str(prm%integrator)//' has no scheme')
       end select
-      if (dt <= dt_limit .or. prm%dt_fixed <= 0.0_rp) ss%dt_prev = dt
+      if (dt <= ss%dt_limit .or. prm%dt_fixed <= 0.0_rp) ss%dt_prev = dt
    end subroutine step_advance
 
    !> The largest ratio of a step to the stable step of a state it reached
@@ -81,7 +82,7 @@ contains
 
    !> The step size of the first stage, the variable step or the fixed one,
    !> and its check against the limit of the state at its start.
-   subroutine first_stage(prm, p, w, ss, bodies, ct, istep, dt, dt_limit)
+   subroutine first_stage(prm, p, w, ss, bodies, ct, istep, dt)
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
       type(forces_work_t), intent(in) :: w
@@ -89,15 +90,15 @@ contains
       type(body_t), intent(in) :: bodies(:)
       type(contact_t), intent(in) :: ct
       integer, intent(in) :: istep
-      real(rp), intent(out) :: dt, dt_limit
+      real(rp), intent(out) :: dt
       real(rp) :: dt_cfl
-      dt_limit = stage_dt(prm, p, w, bodies, ct, dt_cfl)
+      ss%dt_limit = stage_dt(prm, p, w, bodies, ct, dt_cfl)
       ! the previous step against the limits of the state it ended in
-      call note_ratio(ss, ss%dt_prev, [dt_cfl, dt_limit], istep - 1)
-      dt = dt_limit
+      call note_ratio(ss, ss%dt_prev, [dt_cfl, ss%dt_limit], istep - 1)
+      dt = ss%dt_limit
       if (prm%dt_fixed > 0.0_rp) then
          dt = prm%dt_fixed
-         call note_ratio(ss, dt, [dt_cfl, dt_limit], istep)
+         call note_ratio(ss, dt, [dt_cfl, ss%dt_limit], istep)
       end if
    end subroutine first_stage
 
@@ -188,11 +189,17 @@ contains
       type(step_state_t), intent(inout) :: ss
       type(particles_t), intent(in) :: p
       integer :: n
+      integer :: ist
+      character(len=200) :: emsg
       n = p%n_own
       if (allocated(ss%rho0)) then
          if (size(ss%rho0) < n) deallocate (ss%x0, ss%v0, ss%rho0)
       end if
-      if (.not. allocated(ss%rho0)) allocate (ss%x0(2, size(p%rho)), ss%v0(2, size(p%rho)), ss%rho0(size(p%rho)))
+      if (.not. allocated(ss%rho0)) then
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (ss%x0(2, size(p%rho)), ss%v0(2, size(p%rho)), ss%rho0(size(p%rho)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'the state at the start of a step', size(p%rho))
+      end if
       ss%x0(:, 1:n) = p%x(:, 1:n)
       ss%v0(:, 1:n) = p%v(:, 1:n)
       ss%rho0(1:n) = p%rho(1:n)
@@ -200,7 +207,7 @@ contains
 
    !> Symplectic (position Verlet, as in DualSPHysics) or the
    !> predictor-corrector of SPHysics; both evaluate forces twice a step.
-   subroutine two_stage(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+   subroutine two_stage(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
@@ -212,14 +219,14 @@ contains
       type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
       integer, intent(in) :: istep
-      real(rp), intent(out) :: dt, dt_limit
+      real(rp), intent(out) :: dt
       integer :: i
       real(rp) :: hdt, eps, lim, lim_cfl
       logical :: symplectic
       symplectic = prm%integrator /= integ_predictor_corrector
       call evaluate(prm, g, p, w, bodies, ct)
-      call first_stage(prm, p, w, ss, bodies, ct, istep, dt, dt_limit)
-      if (dt > dt_limit) return
+      call first_stage(prm, p, w, ss, bodies, ct, istep, dt)
+      if (dt > ss%dt_limit) return
       hdt = 0.5_rp*dt
       call timer_start(t_integrate)
       call save_state(ss, p)
@@ -285,7 +292,7 @@ contains
 
    !> Verlet: a leapfrog over two steps, with an Euler step every
    !> verlet_every steps to keep the two interleaved solutions together.
-   subroutine verlet(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt, dt_limit)
+   subroutine verlet(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
@@ -297,13 +304,13 @@ contains
       type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
       integer, intent(in) :: istep
-      real(rp), intent(out) :: dt, dt_limit
+      real(rp), intent(out) :: dt
       integer :: i
       real(rp) :: vnew(2), rnew, dt2, hdt2
       logical :: euler
       call evaluate(prm, g, p, w, bodies, ct)
-      call first_stage(prm, p, w, ss, bodies, ct, istep, dt, dt_limit)
-      if (dt > dt_limit) return
+      call first_stage(prm, p, w, ss, bodies, ct, istep, dt)
+      if (dt > ss%dt_limit) return
       call timer_start(t_integrate)
       euler = mod(istep, prm%verlet_every) == 0
       dt2 = 2.0_rp*dt

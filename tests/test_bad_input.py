@@ -537,3 +537,76 @@ def test_restart_of_the_same_case_still_runs(tmp_path: Path, mbsph: Path) -> Non
     first_run(BASE, tmp_path, mbsph)
     proc, _ = run_case(RESTART, tmp_path, binary=mbsph, name=CASE)
     assert_ok(proc)
+
+
+# ------------------------------------------------------------ one run at a time in a folder
+
+
+def test_second_run_into_a_folder_in_use_is_refused(tmp_path: Path, mbsph: Path) -> None:
+    import time
+    # a first run that goes on for a while
+    # (the water spreads off the floor and leaves the domain: no limit on the particles lost)
+    long = edit("max_steps = 1\n", "max_steps = 0\n  max_lost_fraction = 1.0\n",
+                edit("t_end = 0.01", "t_end = 1000.0", edit("dt_out = 0.01", "dt_out = 100.0")))
+    first_dir = tmp_path / "first"
+    first_dir.mkdir()
+    (first_dir / CASE).write_text(long)
+    out = tmp_path / "first" / "OUT"
+    first = subprocess.Popen([str(mbsph), CASE], cwd=first_dir, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL, stdin=subprocess.DEVNULL)
+    try:
+        for _ in range(300):
+            if (out / ".mbsph.lock").exists() and (out / "snap_00000.h5").exists():
+                break
+            time.sleep(0.1)
+        assert first.poll() is None and (out / ".mbsph.lock").exists(), "the first run holds no lock"
+        before = sorted(p.name for p in out.iterdir())
+        # a second case writing into the same folder, overwrite asked for
+        second = edit("out_dir = 'OUT'", "out_dir = '../first/OUT'", edit("max_steps = 1\n",
+                                                                         "max_steps = 1\n  overwrite = .true.\n"))
+        (tmp_path / "second").mkdir()
+        proc, _ = run_case(second, tmp_path / "second", binary=mbsph, name=CASE)
+        assert proc.returncode == EXIT_INPUT, describe(proc)
+        msg = error_line(proc)
+        assert f"{CASE}: &run: out_dir: " in msg and "in use by another run" in msg and str(first.pid) in msg, msg
+        assert set(before) <= {p.name for p in out.iterdir()}, "the refused run deleted files of the running one"
+    finally:
+        first.kill()
+        first.wait()
+    # killed: its lock is left, and the next run takes it over (the process is gone)
+    assert (out / ".mbsph.lock").exists()
+    proc, _ = run_case(edit("max_steps = 1\n", "max_steps = 1\n  overwrite = .true.\n"), first_dir, binary=mbsph,
+                       name=CASE)
+    assert_ok(proc)
+    assert not (out / ".mbsph.lock").exists(), "a run that ended left its lock"
+
+
+# ------------------------------------------------------------ a full disk: one line, the whole files named
+# (the run printed some forty lines of HDF5's error stack and then crashed with SIGSEGV)
+
+
+def test_full_disk_names_the_whole_files(tmp_path: Path, mbsph: Path) -> None:
+    # a 1 MB file system fills after some snapshots: one line, 'no space left on device',
+    # the partial snapshot removed, the last whole one named and readable
+    import h5py
+    small = tmp_path / "small"
+    small.mkdir()
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(small)], capture_output=True)
+    if mounted.returncode != 0:
+        pytest.skip("no permission to mount a small file system here")
+    try:
+        # dp = 5 mm: snapshots of about 90 kB every 0.01 s for 1 s
+        text = edit("max_steps = 1\n", "max_steps = 0\n", edit("t_end = 0.01", "t_end = 1.0"))
+        text = edit("out_dir = 'OUT'", f"out_dir = '{small}/run'", edit("dp = 0.02", "dp = 0.005", text))
+        proc, _ = run_case(text, tmp_path, binary=mbsph, name=CASE)
+        assert proc.returncode == 1, describe(proc)
+        lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+        assert len(lines) == 1 and "no space left on device" in lines[0], proc.stderr
+        found = re.search(r"the last file written whole is (\S+\.h5)", lines[0])
+        assert found, lines[0]
+        with h5py.File(found.group(1), "r") as f:
+            assert f["position"].shape[0] > 0
+        snaps = sorted((small / "run").glob("snap_*.h5"))
+        assert str(snaps[-1]) == found.group(1), (snaps[-1], lines[0])
+    finally:
+        subprocess.run(["umount", str(small)], capture_output=True)

@@ -355,3 +355,59 @@ def test_oscillating_body_starts_on_its_motion(paddle) -> None:
     np.testing.assert_allclose(start.velocity[moving], np.tile([AMPLITUDE * OMEGA, 0.0], (200, 1)),
                                rtol=0, atol=1e-12, err_msg="the paddle does not start with the velocity A w of "
                                "its prescribed motion (snapshot at t = 0)")
+
+
+# ---------------------------------------------------------------- kill -9, then restart
+
+def test_kill_and_restart_is_bit_identical(tmp_path: Path, mbsph: Path) -> None:
+    # a run killed with SIGKILL after some checkpoints, and a kill during the writing of
+    # the next one (a checkpoint.h5.tmp cut short left behind), restarted from its last
+    # checkpoint: the same final snapshot, bit for bit, as the run never interrupted
+    import signal
+    import subprocess
+    import time
+
+    import h5py
+
+    def text(restart: bool = False) -> str:
+        return dambreak_text(a=SMALL_A, dp=SMALL_DP / 2, t_end=1.0, dt_out=0.05,
+                             run={"max_steps": 1500, "checkpoint_every": 100, "restart": restart,
+                                  "progress_interval": 1.0e9})
+
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    proc, out_a = run_case(text(), tmp_path / "a", binary=mbsph)
+    assert_ok(proc)
+    (tmp_path / "b" / "case.nml").write_text(text())
+    run_b = subprocess.Popen([str(mbsph), "case.nml"], cwd=tmp_path / "b", stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL, stdin=subprocess.DEVNULL)
+    out_b = tmp_path / "b" / "OUT"
+    ckpt = out_b / "checkpoint.h5"
+    try:
+        for _ in range(600):
+            if ckpt.is_file():
+                try:
+                    with h5py.File(ckpt, "r") as f:
+                        if int(f.attrs["istep"]) >= 300:
+                            break
+                except OSError:
+                    pass
+            time.sleep(0.05)
+        run_b.send_signal(signal.SIGKILL)
+        run_b.wait()
+    finally:
+        if run_b.poll() is None:
+            run_b.kill()
+    with h5py.File(ckpt, "r") as f:
+        killed_at = int(f.attrs["istep"])
+    assert 300 <= killed_at < 1500, f"the run was not killed mid-way (checkpoint of step {killed_at})"
+    # the next checkpoint's writing cut short by the kill
+    data = ckpt.read_bytes()
+    (out_b / "checkpoint.h5.tmp").write_bytes(data[: len(data) // 2])
+    proc, _ = run_case(text(restart=True), tmp_path / "b", binary=mbsph)
+    assert_ok(proc)
+    final_a, final_b = snapshots(out_a)[-1], snapshots(out_b)[-1]
+    assert read_attrs(final_a)["step"] == read_attrs(final_b)["step"] == 1500
+    assert_same_datasets(final_a, final_b)
+    assert (out_a / "energy.csv").read_text() == (out_b / "energy.csv").read_text(), "energy.csv differs"
+    assert not (out_b / ".mbsph.lock").exists()

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import subprocess
 import time
 from pathlib import Path
@@ -30,7 +31,8 @@ import h5py
 import numpy as np
 import pytest
 
-from conftest import EXIT_INPUT, ROOT, case_text, dambreak_text, describe, out_dir_of, walls
+from conftest import (EXIT_INPUT, ROOT, assert_same_datasets, case_text, dambreak_text, describe, out_dir_of,
+                      snapshots, walls)
 from post.io import read_csv, read_snapshot
 
 pytestmark = pytest.mark.usefixtures("mbsph")
@@ -244,3 +246,124 @@ def test_bad_input_stops_every_rank(tmp_path: Path, mbsph: Path) -> None:
     lines = [ln for ln in proc.stderr.splitlines() if "mbsph: error" in ln]
     assert len(lines) == 1, f"expected one message, got {lines}"
     assert "(rank 0)" in lines[0] and "&run: t_end" in lines[0], lines[0]
+
+
+def mpmd(tmp_path: Path, mbsph: Path, parts: list[tuple[Path, str]]):
+    """One rank per (working directory, case file) pair, started together (mpirun's colon form)."""
+    if MPIRUN is None:
+        pytest.skip("mpirun is not installed")
+    cmd = mpirun_cmd(1)
+    for k, (wdir, case) in enumerate(parts):
+        if k > 0:
+            cmd += [":", "-np", "1"]
+        cmd += ["-wdir", str(wdir), str(mbsph), case]
+    start = time.monotonic()
+    proc = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=60.0, stdin=subprocess.DEVNULL)
+    return proc, time.monotonic() - start
+
+
+def test_ranks_on_different_case_files_stop_together(tmp_path: Path, mbsph: Path) -> None:
+    # two valid cases that differ: the ranks used to wait for each other for ever
+    a, b = tmp_path / "a", tmp_path / "b"
+    a.mkdir()
+    b.mkdir()
+    (a / "case.nml").write_text(dambreak("OUT"))
+    (b / "case.nml").write_text(dambreak("OUT").replace("t_end = 1.0", "t_end = 0.9"))
+    assert (a / "case.nml").read_text() != (b / "case.nml").read_text()
+    proc, elapsed = mpmd(tmp_path, mbsph, [(a, "case.nml"), (a, str(b / "case.nml"))])
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    assert elapsed < 20.0, f"took {elapsed:.1f} s to stop"
+    lines = [ln for ln in proc.stderr.splitlines() if "mbsph: error" in ln]
+    assert len(lines) == 1 and "did not all read the same case file" in lines[0], lines
+    assert not (a / "OUT").exists(), "the refused run prepared its output folder"
+
+
+def test_rank_that_cannot_see_the_folder_stops_every_rank(tmp_path: Path, mbsph: Path) -> None:
+    # rank 1 runs in another working directory, so the relative out_dir rank 0 made is not
+    # there for it: the ranks used to hang in the collective open of the first snapshot
+    a, b = tmp_path / "a", tmp_path / "b"
+    a.mkdir()
+    b.mkdir()
+    text = dambreak("OUT")
+    (a / "case.nml").write_text(text)
+    (b / "case.nml").write_text(text)
+    proc, elapsed = mpmd(tmp_path, mbsph, [(a, "case.nml"), (b, "case.nml")])
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    assert elapsed < 20.0, f"took {elapsed:.1f} s to stop"
+    lines = [ln for ln in proc.stderr.splitlines() if "mbsph: error" in ln]
+    assert len(lines) == 1 and "&run: out_dir: rank 1 cannot write the folder 'OUT'" in lines[0], lines
+
+
+def processes_in(folder: Path) -> list[int]:
+    """The live (not zombie) processes of build/mbsph whose working directory is folder."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            if Path(os.readlink(entry / "cwd")) != folder.resolve():
+                continue
+            if b"mbsph" not in (entry / "cmdline").read_bytes():
+                continue
+            state = (entry / "stat").read_text().rsplit(")", 1)[1].split()[0]
+        except (OSError, IndexError):
+            continue
+        if state != "Z":
+            found.append(int(entry.name))
+    return found
+
+
+def test_kill_and_restart_on_two_ranks_is_bit_identical(tmp_path: Path, mbsph: Path) -> None:
+    # as tests/test_cases.py::test_kill_and_restart_is_bit_identical, on two ranks: every
+    # process of the run killed with SIGKILL after some checkpoints, a checkpoint.h5.tmp
+    # cut short left behind, and the restart on two ranks ends as the run never interrupted
+    if MPIRUN is None:
+        pytest.skip("mpirun is not installed")
+    text = dambreak("OUT", run_extra={"max_steps": 1200, "checkpoint_every": 100, "progress_interval": 1.0e9})
+    proc, out_a = run(text, tmp_path / "a", RANKS, mbsph, timeout=300.0)
+    ok(proc)
+    folder = tmp_path / "b"
+    folder.mkdir()
+    (folder / "case.nml").write_text(text)
+    run_b = subprocess.Popen(mpirun_cmd(RANKS) + [str(mbsph), "case.nml"], cwd=folder, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL, stdin=subprocess.DEVNULL, start_new_session=True)
+    ckpt = folder / "OUT" / "checkpoint.h5"
+    try:
+        for _ in range(1200):
+            if ckpt.is_file():
+                try:
+                    with h5py.File(ckpt, "r") as f:
+                        if int(f.attrs["istep"]) >= 300:
+                            break
+                except OSError:
+                    pass
+            time.sleep(0.05)
+    finally:
+        # mpirun's process group, and the ranks themselves (Open MPI may start them in
+        # groups of their own): every process of the run, as a batch system kills a job
+        os.killpg(run_b.pid, signal.SIGKILL)
+        run_b.wait()
+        for _ in range(100):
+            ranks = processes_in(folder)
+            if not ranks:
+                break
+            for pid in ranks:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+            time.sleep(0.05)
+    with h5py.File(ckpt, "r") as f:
+        killed_at = int(f.attrs["istep"])
+    assert 300 <= killed_at < 1200, f"the run was not killed mid-way (checkpoint of step {killed_at})"
+    data = ckpt.read_bytes()
+    (folder / "OUT" / "checkpoint.h5.tmp").write_bytes(data[: len(data) // 2])
+    assert "max_steps = 1200" in text
+    proc, out_b = run(text.replace("max_steps = 1200", "max_steps = 1200, restart = .true."), folder, RANKS, mbsph,
+                      timeout=300.0)
+    ok(proc)
+    final_a, final_b = snapshots(out_a)[-1], snapshots(out_b)[-1]
+    assert read_snapshot(final_a).step == read_snapshot(final_b).step == 1200
+    # bit for bit: the same ranks, the same slabs, the same memory order from the checkpoint
+    assert_same_datasets(final_a, final_b)
+    assert (out_a / "energy.csv").read_text() == (out_b / "energy.csv").read_text(), "energy.csv differs"
