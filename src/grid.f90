@@ -18,7 +18,8 @@ module grid
    use particles, only: particles_t, particles_permute
    implicit none
    private
-   public :: grid_t, grid_init, grid_sort, grid_cell_of, grid_cell, grid_column, grid_visit_pairs, grid_first_column_end, &
+   public :: grid_t, grid_init, grid_columns, grid_sort, grid_cell_of, grid_cell, grid_column, grid_visit_pairs, &
+             grid_first_column_end, &
              grid_add_halo, grid_ranges, grid_last_cell
 
    type :: grid_t
@@ -54,7 +55,7 @@ contains
       g%cs = 2.0_rp*h
       g%x0 = xmin
       g%y0 = ymin
-      g%ncx_all = max(1, ceiling((xmax - xmin)/g%cs))
+      g%ncx_all = grid_columns(xmin, xmax, h)
       g%csy = g%cs/g%reach
       g%icsy = 1.0_rp/g%csy
       g%ncy = max(1, ceiling((ymax - ymin)/g%csy))
@@ -70,6 +71,13 @@ contains
       allocate (g%cstart(g%ncell + 2), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'the cells of the neighbour grid', g%ncell + 2)
    end subroutine grid_init
+
+   !> Cell columns (2h wide) over the domain [xmin, xmax]: the one count of
+   !> grid_init, of the ranks' check and of the slabs.
+   pure integer function grid_columns(xmin, xmax, h) result(n)
+      real(rp), intent(in) :: xmin, xmax, h
+      n = max(1, ceiling((xmax - xmin)/(2.0_rp*h)))
+   end function grid_columns
 
    !> Cell column (0-based, over the whole domain) of abscissa x; points
    !> outside the domain take the nearest column. The one rule by which cells

@@ -19,7 +19,7 @@ module solver
    use body_dynamics, only: body_t, bodies_place, bodies_energy, bodies_prescribe
    use contact, only: contact_t, contact_init, contact_memory_advance, contact_memory_get, contact_memory_set
    use io_bodies, only: bodies_csv_open, bodies_csv_row, bodies_csv_close
-   use grid, only: grid_t, grid_init, grid_sort, grid_first_column_end, grid_add_halo
+   use grid, only: grid_t, grid_init, grid_columns, grid_sort, grid_first_column_end, grid_add_halo
    use decomp, only: decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, decomp_lo, &
                      decomp_hi
    use comm_halo, only: comm_halo_migrate, comm_halo_build, comm_halo_redistribute
@@ -132,9 +132,9 @@ contains
       ! every check that can still fail comes before the output folder is
       ! touched: with overwrite = .true. a case refused here keeps the old run
       call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, wave_report)
+      call check_size(c)
       call check_ranks(c)
       call check_same_case(c)
-      call check_size(c)
       if (.not. c%run%restart) call scene_build(c, p, prm, bodies)
       ! one rank prepares the folder; the others wait for it (or for its abort)
       if (comm_rank() == 0) call outdir_prepare(c%file, out, c%run%overwrite, c%run%restart)
@@ -298,15 +298,14 @@ contains
    !> Enough cell columns for the ranks: each rank's slab is one column at least.
    subroutine check_ranks(c)
       type(case_cfg), intent(in) :: c
-      type(grid_t) :: gc
-      integer :: nr
+      integer :: nr, ncx
       nr = comm_size()
       if (nr == 1) return
-      call grid_init(gc, c%domain%xmin, c%domain%xmax, c%domain%ymin, c%domain%ymax, &
-                     c%numerics%h_over_dp*c%numerics%dp)
-      if (nr > gc%ncx_all) call input_error(c%file, 'domain', 'xmax', 'the domain is '//int_str(gc%ncx_all)// &
+      ! counted, not allocated: the grid itself comes after the size check
+      ncx = grid_columns(c%domain%xmin, c%domain%xmax, c%numerics%h_over_dp*c%numerics%dp)
+      if (nr > ncx) call input_error(c%file, 'domain', 'xmax', 'the domain is '//int_str(ncx)// &
          ' cells of 2h wide, too few for '//int_str(nr)//' ranks (a rank needs one at least): run on at most '// &
-         int_str(gc%ncx_all)//' ranks')
+         int_str(ncx)//' ranks')
    end subroutine check_ranks
 
    !> The case's size against the 32-bit numbers of particles and cells and

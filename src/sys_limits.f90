@@ -5,6 +5,7 @@
 module sys_limits
    use, intrinsic :: iso_c_binding, only: c_int, c_long
    use kinds, only: rp
+   use input_check, only: int_str
    implicit none
    private
    public :: sys_memory_left
@@ -50,7 +51,7 @@ contains
       if (avail >= 0.0_rp .and. avail < bytes) then
          bytes = avail
          source = 'the memory available on this machine (MemAvailable'
-         if (nodes > 1) source = source//' shared by the '//int_s(nodes)//' ranks on it'
+         if (nodes > 1) source = source//' shared by the '//int_str(nodes)//' ranks on it'
          source = source//')'
       end if
    end subroutine sys_memory_left
@@ -73,14 +74,6 @@ contains
       end do lines
       close (u)
    end function proc_kb
-
-   function int_s(i) result(s)
-      integer, intent(in) :: i
-      character(len=:), allocatable :: s
-      character(len=16) :: w
-      write (w, '(i0)') i
-      s = trim(w)
-   end function int_s
 
    function gb(b) result(s)
       real(rp), intent(in) :: b

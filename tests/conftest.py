@@ -224,3 +224,19 @@ def assert_same_datasets(a: Path, b: Path) -> None:
     aa, ab = read_attrs(a), read_attrs(b)
     for key in ("time", "step", "n_particles"):
         assert np.array_equal(aa[key], ab[key]), f"attribute {key}: {aa[key]!r} != {ab[key]!r}"
+
+
+def wait_for_checkpoint(path: Path, step: int, timeout: float = 60.0) -> None:
+    """Wait until the checkpoint at path holds a step of at least ``step`` (a running
+    run writes it; a read of a file being renamed is retried)."""
+    import time
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if path.is_file():
+            try:
+                with h5py.File(path, "r") as f:
+                    if int(f.attrs["istep"]) >= step:
+                        return
+            except OSError:
+                pass
+        time.sleep(0.05)

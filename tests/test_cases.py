@@ -23,6 +23,7 @@ from conftest import (
     run_case,
     snapshots,
     tank_text,
+    wait_for_checkpoint,
 )
 from post import dambreak, hydrostatic
 from post.io import MOVING_BOUNDARY, read_csv, read_snapshot
@@ -365,7 +366,6 @@ def test_kill_and_restart_is_bit_identical(tmp_path: Path, mbsph: Path) -> None:
     # checkpoint: the same final snapshot, bit for bit, as the run never interrupted
     import signal
     import subprocess
-    import time
 
     import h5py
 
@@ -384,15 +384,7 @@ def test_kill_and_restart_is_bit_identical(tmp_path: Path, mbsph: Path) -> None:
     out_b = tmp_path / "b" / "OUT"
     ckpt = out_b / "checkpoint.h5"
     try:
-        for _ in range(600):
-            if ckpt.is_file():
-                try:
-                    with h5py.File(ckpt, "r") as f:
-                        if int(f.attrs["istep"]) >= 300:
-                            break
-                except OSError:
-                    pass
-            time.sleep(0.05)
+        wait_for_checkpoint(ckpt, 300)
         run_b.send_signal(signal.SIGKILL)
         run_b.wait()
     finally:

@@ -32,7 +32,7 @@ import numpy as np
 import pytest
 
 from conftest import (EXIT_INPUT, ROOT, assert_same_datasets, case_text, dambreak_text, describe, out_dir_of,
-                      snapshots, walls)
+                      snapshots, wait_for_checkpoint, walls)
 from post.io import read_csv, read_snapshot
 
 pytestmark = pytest.mark.usefixtures("mbsph")
@@ -329,15 +329,7 @@ def test_kill_and_restart_on_two_ranks_is_bit_identical(tmp_path: Path, mbsph: P
                              stderr=subprocess.DEVNULL, stdin=subprocess.DEVNULL, start_new_session=True)
     ckpt = folder / "OUT" / "checkpoint.h5"
     try:
-        for _ in range(1200):
-            if ckpt.is_file():
-                try:
-                    with h5py.File(ckpt, "r") as f:
-                        if int(f.attrs["istep"]) >= 300:
-                            break
-                except OSError:
-                    pass
-            time.sleep(0.05)
+        wait_for_checkpoint(ckpt, 300)
     finally:
         # mpirun's process group, and the ranks themselves (Open MPI may start them in
         # groups of their own): every process of the run, as a batch system kills a job
