@@ -14,7 +14,10 @@ Tools, each runnable as ``python -m post.<tool> --help``:
 - :mod:`post.waves`: wave heights, periods, spectra and reflection from ``gauges.csv``;
 - :mod:`post.armour`: displaced armour units, Nod and Ns from ``armour.csv`` and ``bodies.csv``.
 
-Requirements: numpy, h5py, matplotlib, f90nml (post/requirements.txt). Figures
+Each tool is also ``mbsph-post <tool>`` once the package is installed (``pip install -e .``
+in the repository root; ``make deps`` does it in ``.venv/``).
+
+Requirements: numpy, scipy, h5py, matplotlib, f90nml (pyproject.toml). Figures
 are drawn with matplotlib's Agg backend and written as PNG files.
 """
 

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import NamedTuple, Sequence
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from .io import Snapshot, fluid_box, list_snapshots, read_case, read_snapshot
 from .cli import message
@@ -93,15 +94,13 @@ def front_position(snapshot: Snapshot, x_wall: float, bed_layers: float = 3.0,
     pool = pos[pos[:, 1] < y_bed + bed_layers * dp + radius]
     candidates = pos[pos[:, 1] < y_bed + bed_layers * dp]
     candidates = candidates[np.argsort(-candidates[:, 0])]
-    block = 256
-    for start in range(0, len(candidates), block):
-        cand = candidates[start:start + block]
-        near = pool[pool[:, 0] >= cand[:, 0].min() - radius]
-        d = cand[:, None, :] - near[None, :, :]
-        count = np.count_nonzero(np.hypot(d[..., 0], d[..., 1]) <= radius, axis=1) - 1
-        ok = np.nonzero(count >= min_neighbours)[0]
-        if ok.size:
-            return float(cand[ok[0], 0] + 0.5 * dp - x_wall)
+    if candidates.size == 0:
+        return float("nan")
+    # neighbours within the radius, the particle itself left out
+    count = cKDTree(pool).query_ball_point(candidates, radius, return_length=True) - 1
+    ok = np.nonzero(count >= min_neighbours)[0]
+    if ok.size:
+        return float(candidates[ok[0], 0] + 0.5 * dp - x_wall)
     return float("nan")
 
 

@@ -9,9 +9,8 @@ Only fluid particles (``kind == 1``) contribute. With the particle volume
   ``f(x) = sum_j f_j V_j W(x - x_j) / S(x)``, which reproduces constant fields
   exactly and linear fields to high accuracy away from the free surface.
 
-Neighbours are found with a cell list (cells as wide as the kernel support),
-vectorised over chunks of points; 1e5 particles against 1e5 points take about
-a second.
+Neighbours are found with k-d trees (``scipy.spatial.cKDTree``), over chunks of
+points.
 """
 
 from __future__ import annotations
@@ -19,6 +18,7 @@ from __future__ import annotations
 from typing import Sequence
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from .io import Snapshot
 
@@ -60,43 +60,24 @@ def _as_points(points: Sequence[float] | np.ndarray) -> np.ndarray:
 def _weighted_sums(points: np.ndarray, xj: np.ndarray, weights: np.ndarray, h: float) -> np.ndarray:
     """Return ``sum_j W(|points_i - xj_j|) weights_jk`` with shape ``(M, K)``.
 
-    ``weights`` has shape ``(N, K)``. The particles are binned in square cells of the
-    kernel support ``2h`` and sorted by cell; each point meets only the particles of the
-    3 x 3 cells around its own, all (point, particle) pairs of a chunk of points at once.
+    ``weights`` has shape ``(N, K)``. The (point, particle) pairs closer than the kernel
+    support ``2h`` come from k-d trees of both (``scipy.spatial.cKDTree``), a chunk of
+    points at a time so that the pair list stays small.
     """
     m, n = points.shape[0], xj.shape[0]
     out = np.zeros((m, weights.shape[1]))
     if m == 0 or n == 0:
         return out
-    cell = 2.0 * h
-    origin = xj.min(axis=0)
-    cj = np.floor((xj - origin) / cell).astype(np.int64)
-    ny = int(cj[:, 1].max()) + 1
-    nx = int(cj[:, 0].max()) + 1
-    key = cj[:, 0] * ny + cj[:, 1]
-    order = np.argsort(key, kind="stable")
-    key, xs, ws = key[order], xj[order], weights[order]
-    ci = np.floor((points - origin) / cell)
-    ci = np.clip(ci, -2, np.array([nx, ny]) + 1).astype(np.int64)  # far points: no neighbour cell
-    offsets = np.array([(dx, dy) for dx in (-1, 0, 1) for dy in (-1, 0, 1)])
+    particles = cKDTree(xj)
     for start in range(0, m, _POINTS_PER_CHUNK):
-        rows = np.arange(start, min(start + _POINTS_PER_CHUNK, m))
-        cx = ci[rows, 0][:, None] + offsets[None, :, 0]
-        cy = ci[rows, 1][:, None] + offsets[None, :, 1]
-        valid = (cx >= 0) & (cx < nx) & (cy >= 0) & (cy < ny)
-        cells = np.where(valid, cx * ny + cy, -1).ravel()
-        first = np.searchsorted(key, cells, side="left")
-        count = np.where(cells >= 0, np.searchsorted(key, cells, side="right") - first, 0)
-        total = int(count.sum())
-        if total == 0:
+        stop = min(start + _POINTS_PER_CHUNK, m)
+        # output_type 'ndarray' keeps the pairs at distance zero, which a sparse matrix drops
+        pairs = cKDTree(points[start:stop]).sparse_distance_matrix(particles, 2.0 * h, output_type="ndarray")
+        if pairs.size == 0:
             continue
-        point = np.repeat(np.repeat(rows, len(offsets)), count)
-        skip = np.repeat(np.cumsum(count) - count - first, count)
-        part = np.arange(total) - skip
-        d = points[point] - xs[part]
-        w = wendland_c2(np.hypot(d[:, 0], d[:, 1]), h)
+        w = wendland_c2(pairs["v"], h)
         for k in range(weights.shape[1]):
-            out[:, k] += np.bincount(point, weights=w * ws[part, k], minlength=m)
+            out[start:stop, k] += np.bincount(pairs["i"], weights=w * weights[pairs["j"], k], minlength=stop - start)
     return out
 
 

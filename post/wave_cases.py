@@ -15,16 +15,6 @@ from pathlib import Path
 G = 9.81
 
 
-def wave_number(omega: float, depth: float, g: float = G) -> float:
-    """Linear dispersion w^2 = g k tanh(k d), solved by Newton iteration."""
-    k = omega * omega / g / math.sqrt(math.tanh(omega * omega * depth / g))
-    for _ in range(50):
-        f = g * k * math.tanh(k * depth) - omega * omega
-        df = g * math.tanh(k * depth) + g * k * depth / math.cosh(k * depth) ** 2
-        k -= f / df
-    return k
-
-
 def period_for_kh(kh: float, depth: float, g: float = G) -> float:
     k = kh / depth
     return 2.0 * math.pi / math.sqrt(g * k * math.tanh(kh))

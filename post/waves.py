@@ -34,6 +34,7 @@ from pathlib import Path
 from typing import Sequence
 
 import numpy as np
+from scipy import signal
 
 from .io import case_t_end, complete_lines, fluid_box, note_end, read_case
 from .plotting import plt, save_figure
@@ -284,35 +285,30 @@ def _segments(n: int, nseg: int) -> int:
     return n if nseg == 1 else int(2 * n // (nseg + 1))
 
 
-def _window(length: int, window: str) -> np.ndarray:
-    if window == "hann":
-        # periodic Hann: the halves of overlapping segments add up to a constant
-        return 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(length) / length)
-    if window == "boxcar":
-        return np.ones(length)
-    raise ValueError(f"window {window!r}: use 'hann' or 'boxcar'")
+#: the windows the spectral functions accept (scipy.signal.get_window names)
+WINDOWS = ("hann", "boxcar")
 
 
-def _windowed_ffts(y: np.ndarray, length: int, window: str) -> tuple[np.ndarray, float]:
-    """FFT of each mean-removed, windowed segment of ``length`` samples, the segments
-    overlapping by half: array (..., segments, frequencies), and the sum of the squared window."""
-    n = y.shape[-1]
+def _welch_options(n: int, length: int, window: str) -> dict:
+    """Options of scipy.signal.welch and csd for segments of ``length`` samples (at most
+    ``n``) overlapping by half: each segment has its mean removed and is multiplied by the
+    periodic window (scipy's default, whose overlapping halves add up to a constant); the
+    densities are one-sided."""
+    if window not in WINDOWS:
+        raise ValueError(f"window {window!r}: use 'hann' or 'boxcar'")
     length = min(int(length), n)
     if length < 8:
         raise ValueError(f"segments of {length} samples are too short")
-    w = _window(length, window)
-    starts = range(0, n - length + 1, max(1, length // 2))
-    segs = np.stack([y[..., s:s + length] for s in starts], axis=-2)
-    segs = segs - segs.mean(axis=-1, keepdims=True)
-    return np.fft.rfft(segs * w, axis=-1), float(np.sum(w * w))
+    # a step of floor(length/2) samples, for odd lengths too
+    return dict(window=window, nperseg=length, noverlap=length - max(1, length // 2),
+                detrend="constant", return_onesided=True, scaling="density", axis=-1)
 
 
 def _rough_peak_frequency(y: np.ndarray, dt: float) -> float:
     """Peak frequency of the Hann periodogram of the whole record smoothed over five bins:
     good enough to choose the segment length of the Welch estimate."""
-    X, _ = _windowed_ffts(y, len(y), "hann")
-    P = np.convolve(np.abs(X[0]) ** 2, np.ones(5) / 5.0, mode="same")
-    f = np.fft.rfftfreq(len(y), dt)
+    f, P = signal.periodogram(y, fs=1.0 / dt, window="hann", detrend="constant")
+    P = np.convolve(P, np.ones(5) / 5.0, mode="same")
     return float(f[1 + int(np.argmax(P[1:]))])
 
 
@@ -340,7 +336,7 @@ class Spectrum:
 
 def spectrum(t: np.ndarray, eta: np.ndarray, segment: float | None = None, nseg: int | None = None,
              window: str = "hann", fmin: float | None = None, fmax: float | None = None) -> Spectrum:
-    """Variance density spectrum of ``eta(t)`` by Welch's method.
+    """Variance density spectrum of ``eta(t)`` by Welch's method (``scipy.signal.welch``).
 
     The record is cut into segments that overlap by half; each has its mean removed, is
     multiplied by a (periodic) Hann window and Fourier transformed; the densities
@@ -361,14 +357,7 @@ def spectrum(t: np.ndarray, eta: np.ndarray, segment: float | None = None, nseg:
         length = int(round(segment / dt))
     else:
         length = int(round(SEGMENT_PEAK_PERIODS / (_rough_peak_frequency(y, dt) * dt)))
-    length = min(length, len(y))
-    X, wsum = _windowed_ffts(y, length, window)
-    fs = 1.0 / dt
-    S = np.mean(np.abs(X) ** 2, axis=0) / (fs * wsum)
-    S[1:] *= 2.0
-    if length % 2 == 0:
-        S[-1] /= 2.0  # the Nyquist bin has no mirror
-    f = np.fft.rfftfreq(length, dt)
+    f, S = signal.welch(y, fs=1.0 / dt, **_welch_options(len(y), length, window))
     df = float(f[1])
     lo = df if fmin is None else max(float(fmin), df * 0.5)
     hi = float(f[-1]) if fmax is None else float(fmax)
@@ -576,8 +565,9 @@ def _separate(t: np.ndarray, etas: Sequence[np.ndarray], xs: Sequence[float], de
     """Least-squares separation of ``Z_p = A_i exp(-i k x_p) + A_r exp(+i k x_p)``.
 
     With ``frequency`` the ``Z_p`` are the fitted complex amplitudes at that frequency (a
-    regular wave); else the Fourier coefficients of every bin of every segment, the
-    energies averaged over the segments. ``conditioned(k)`` is True where the gauge
+    regular wave); else the Fourier coefficients of every bin of every segment, whose
+    energies averaged over the segments follow from the cross-spectral densities of the
+    gauges (``scipy.signal.csd``). ``conditioned(k)`` is True where the gauge
     layout resolves the two waves.
     """
     t, y, dt = _uniform(t, np.vstack([np.asarray(e, dtype=float) for e in etas]))
@@ -596,12 +586,12 @@ def _separate(t: np.ndarray, etas: Sequence[np.ndarray], xs: Sequence[float], de
                           Hm0_r=4.0 * math.sqrt(E_r), f=f, S_i=np.array([np.nan]), S_r=np.array([np.nan]),
                           f_masked=f[:0], fmin=f[0], fmax=f[0])
     length = _segments(y.shape[-1], nseg)
-    X, wsum = _windowed_ffts(y, length, window)  # (gauges, segments, frequencies)
-    f = np.fft.rfftfreq(length, dt)
-    fs = 1.0 / dt
+    # cross-spectral densities of every pair of gauges, C[p, q] = <conj(X_p) X_q>, one-sided
+    f, C = signal.csd(y[:, None, :], y[None, :, :], fs=1.0 / dt,
+                      **_welch_options(y.shape[-1], length, window))
     if fmin is None or fmax is None:
         # peak of the mean spectrum of the gauges
-        S_mean = np.mean(np.abs(X) ** 2, axis=(0, 1))
+        S_mean = np.real(np.mean(np.diagonal(C), axis=-1))
         fp = float(f[1 + int(np.argmax(S_mean[1:]))])
         fmin = band[0] * fp if fmin is None else fmin
         fmax = band[1] * fp if fmax is None else fmax
@@ -610,12 +600,13 @@ def _separate(t: np.ndarray, etas: Sequence[np.ndarray], xs: Sequence[float], de
     ok = in_band & conditioned(k)
     S_i = np.zeros(len(f))
     S_r = np.zeros(len(f))
-    scale = 2.0 / (fs * wsum)  # one-sided density, as in spectrum()
     for j in np.nonzero(ok)[0]:
+        # A = P Z with P the least-squares inverse of the gauge layout, so that the mean
+        # of |A_i|^2 over the segments is conj(P_0) C P_0 (and likewise for A_r)
         M = np.column_stack([np.exp(-1j * k[j] * x), np.exp(1j * k[j] * x)])
-        sol, *_ = np.linalg.lstsq(M, X[:, :, j], rcond=None)  # (2, segments)
-        S_i[j] = scale * float(np.mean(np.abs(sol[0]) ** 2))
-        S_r[j] = scale * float(np.mean(np.abs(sol[1]) ** 2))
+        P = np.linalg.pinv(M)
+        S_i[j] = float(np.real(np.conj(P[0]) @ C[:, :, j] @ P[0]))
+        S_r[j] = float(np.real(np.conj(P[1]) @ C[:, :, j] @ P[1]))
     df = float(f[1])
     E_i = float(np.sum(S_i[ok]) * df)
     E_r = float(np.sum(S_r[ok]) * df)

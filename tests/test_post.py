@@ -497,6 +497,38 @@ def test_post_tool_on_empty_folder(tool: str, tmp_path: Path) -> None:
     assert_one_line_error(proc, tool, str(tmp_path))
 
 
+def test_installed_command_runs_from_any_folder(tmp_path: Path) -> None:
+    """`pip install -e .` (tools/deps.sh) installs `mbsph-post` and the package: from a
+    folder outside the repository, with no PYTHONPATH, the command lists every tool, runs
+    one, and its bad input ends in one line and exit 2 as `python -m post.<tool>` does."""
+    import os
+    import subprocess
+
+    from post.__main__ import TOOLS
+    command = Path(sys.executable).parent / "mbsph-post"
+    assert command.is_file(), f"{command} is missing: `make deps` installs the post package (pyproject.toml)"
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+
+    def run(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.run([str(command), *args], cwd=tmp_path, env=env, capture_output=True, text=True,
+                              timeout=120, stdin=subprocess.DEVNULL)
+    listing = run("--help")
+    assert listing.returncode == 0, listing.stderr
+    for tool in TOOLS:
+        assert f"  {tool} " in listing.stdout, listing.stdout
+        assert (ROOT_DIR / "post" / f"{tool}.py").is_file()
+    assert run("validation_cases").returncode == 0
+    missing = run("waves", "no_such_run")
+    lines = [ln for ln in missing.stderr.splitlines() if ln.strip()]
+    assert missing.returncode == 2 and len(lines) == 1, missing.stderr
+    assert lines[0].startswith("mbsph-post waves: error: no_such_run"), lines[0]
+    unknown = run("no_such_tool")
+    assert unknown.returncode == 2 and "no tool 'no_such_tool'" in unknown.stderr
+    where = subprocess.run([sys.executable, "-c", "import post; print(post.__file__)"], cwd=tmp_path, env=env,
+                           capture_output=True, text=True, timeout=60)
+    assert Path(where.stdout.strip()) == ROOT_DIR / "post" / "__init__.py", where.stderr
+
+
 def test_truncated_snapshot_is_named_not_plotted(tank: Path) -> None:
     # a run stopped while writing its last snapshot: the tool names that file and draws nothing
     last = sorted(tank.glob("snap_*.h5"))[-1]

@@ -105,12 +105,10 @@ def test_base_cases_run(text: str, tmp_path: Path, mbsph: Path) -> None:
 
 # ----------------------------------------------------------------- gauges at rest
 
-def read_gauges_csv(out: Path):
-    import io
-
-    import numpy as np
-    lines = [ln for ln in (out / "gauges.csv").read_text().splitlines() if not ln.startswith("#")]
-    return np.genfromtxt(io.StringIO("\n".join(lines)), delimiter=",", names=True)
+def read_gauges_csv(out: Path) -> dict:
+    """The columns of ``gauges.csv``, by the post package's reader of that file."""
+    from post.waves import read_gauges
+    return read_gauges(out / "gauges.csv")[2]
 
 
 def test_gauges_in_still_water(tmp_path: Path, mbsph: Path) -> None:
@@ -154,15 +152,15 @@ def layer_porosity(armour_csv: Path) -> tuple[float, float, float]:
     fraction of the band of thickness dn above the slope from the toe unit's upper face
     to the end of the last unit, sampled on a fine grid. Returns (measured, reported, target)."""
     import numpy as np
-    head = armour_csv.read_text().splitlines()[0].lstrip("# ")
-    meta = dict(kv.split("=") for kv in head.split(","))
-    dn = float(meta["dn"])
+    from post.armour import read_armour
+    layer = read_armour(armour_csv)
+    meta = layer.meta
+    dn = layer.dn
     alpha = np.radians(float(meta["slope_angle_deg"]))
-    u = np.genfromtxt(armour_csv, delimiter=",", names=True, skip_header=1)
     t = np.array([np.cos(alpha), np.sin(alpha)])
     n = np.array([-t[1], t[0]])
-    c = np.stack([u["x0"], u["y0"]], axis=1)
-    phi = np.radians(u["angle0"]) - alpha
+    c = np.stack([layer.x0, layer.y0], axis=1)
+    phi = np.radians(layer.angle0) - alpha
     # slope coordinates of the centres; the slope line passes under the lowest corner
     s_c = c @ t
     nu_c = c @ n
@@ -195,11 +193,13 @@ def test_armour_settles(placement: str, target: float, tmp_path: Path, mbsph: Pa
     assert tgt == pytest.approx(target)
     assert abs(measured - target) <= 0.02, f"porosity {measured:.4f} (reported {reported:.4f}), target {target}"
     assert abs(reported - measured) <= 0.01
-    d = np.genfromtxt(out / "bodies.csv", delimiter=",", names=True)
-    units = np.genfromtxt(out / "armour.csv", delimiter=",", names=True, skip_header=1)
+    from post.armour import read_armour
+    from post.io import read_csv
+    d = read_csv(out / "bodies.csv")
+    units = read_armour(out / "armour.csv")
     dn = 0.04
-    assert len(units) >= 6
-    for b in units["body"]:
+    assert len(units.body) >= 6
+    for b in units.body:
         m = d["body"] == b
         t, x, y = d["time"][m], d["x"][m], d["y"][m]
         assert t[-1] == pytest.approx(2.0, abs=1e-3)
@@ -216,7 +216,6 @@ def test_paddle_follows_signal_file(paddle: str, tmp_path: Path, mbsph: Path) ->
     moved by y sin(theta) and dropped by y (1 - cos(theta))."""
     import math
 
-    import h5py
     import numpy as np
     amp, per, t_end, depth = 0.01, 1.0, 0.3, 0.2
     ts = np.arange(0.0, 2.0, 0.005)
@@ -232,15 +231,9 @@ def test_paddle_follows_signal_file(paddle: str, tmp_path: Path, mbsph: Path) ->
     snaps = sorted(out.glob("snap_*.h5"))
 
     def moving(path):
-        with h5py.File(path, "r") as f:
-            k = f["kind"][()]
-            ids = f["id"][()]
-            x = f["position"][()]
-            t = float(f.attrs["time"])
-        x = x.reshape(-1, 2) if x.ndim == 2 and x.shape[-1] == 2 else x.T
-        sel = k == 3
-        order = np.argsort(ids[sel])
-        return t, x[sel][order]
+        from post.io import read_snapshot
+        snap = read_snapshot(path)  # particles in id order
+        return snap.time, snap.position[snap.kind == 3]
     t0, x0 = moving(snaps[0])
     t1, x1 = moving(snaps[-1])
     assert t1 == pytest.approx(t_end, abs=1e-3)

@@ -169,6 +169,29 @@ def test_spectrum_of_sine_holds_its_variance() -> None:
     assert waves.is_regular(t, eta)
 
 
+@pytest.mark.parametrize("length", [200, 201])
+def test_spectrum_is_the_welch_estimate_it_documents(length: int) -> None:
+    """spectrum() against Welch's estimate written out by hand from its docstring: segments
+    of ``length`` samples starting every floor(length/2), each with its mean removed and a
+    periodic Hann window, densities 2 |X|^2 / (fs sum w^2), not doubled at 0 and at the
+    Nyquist frequency. Any change in the library call's options shows here (bar 1e-12)."""
+    rng = np.random.default_rng(3)
+    dt = 0.05
+    t = dt * np.arange(1003)
+    eta = 0.02 * np.cos(2 * math.pi * 0.7 * t) + 0.005 * rng.standard_normal(t.size) + 0.01
+    sp = waves.spectrum(t, eta, segment=length * dt)
+    w = 0.5 - 0.5 * np.cos(2 * math.pi * np.arange(length) / length)
+    starts = range(0, t.size - length + 1, length // 2)
+    X = np.array([np.fft.rfft((eta[s:s + length] - eta[s:s + length].mean()) * w) for s in starts])
+    S = np.mean(np.abs(X) ** 2, axis=0) / (np.sum(w * w) / dt)
+    S[1:] *= 2.0
+    if length % 2 == 0:
+        S[-1] /= 2.0
+    np.testing.assert_allclose(sp.f, np.fft.rfftfreq(length, dt), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(sp.S, S, rtol=1e-12, atol=1e-12 * S.max())
+    assert sp.m0 == pytest.approx(np.sum(S[1:]) * sp.df, rel=1e-12)
+
+
 # ------------------------------------------------------------------ regular waves
 
 

@@ -5,8 +5,9 @@
 #   (a) Debian packages: Fortran/MPI/HDF5/FFTW toolchain, and ParaView + Xvfb for the
 #       ParaView test (skip those with MBSPH_NO_PARAVIEW=1).
 #   (b) Python virtual environment .venv/ in the repository root with the exact versions
-#       of tools/requirements.txt; rebuilt only when requirements.txt is newer than the
-#       stamp .venv/.deps-stamp (or the environment is missing or broken).
+#       of tools/requirements.txt and the post package (pyproject.toml) installed editable;
+#       rebuilt only when requirements.txt or pyproject.toml is newer than the stamp
+#       .venv/.deps-stamp (or the environment is missing or broken).
 #
 # Environment: MBSPH_NO_PARAVIEW=1  skip paraview/xvfb
 #              MBSPH_PYTHON=...     interpreter to build .venv from (default: python3 on PATH)
@@ -64,7 +65,8 @@ venv=$root/.venv
 req=$root/tools/requirements.txt
 stamp=$venv/.deps-stamp
 
-if [[ -f "$stamp" && ! "$req" -nt "$stamp" ]] && "$venv/bin/python" -c '' >/dev/null 2>&1; then
+if [[ -f "$stamp" && ! "$req" -nt "$stamp" && ! "$root/pyproject.toml" -nt "$stamp" ]] &&
+   "$venv/bin/python" -c '' >/dev/null 2>&1; then
     exit 0
 fi
 
@@ -76,9 +78,12 @@ if ! "$venv/bin/python" -c 'import pip' >/dev/null 2>&1; then
 fi
 say "installing Python packages from tools/requirements.txt"
 export PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_INPUT=1
-"$venv/bin/python" -m pip install -q --only-binary=h5py,numpy -r "$req"
+"$venv/bin/python" -m pip install -q --only-binary=h5py,numpy,scipy -r "$req"
+# the post package itself (pyproject.toml), editable: `import post` from any folder, `mbsph-post`
+"$venv/bin/python" -m pip install -q --no-deps --no-build-isolation -e "$root"
 # fail here, not in a test, if a wheel does not load
-"$venv/bin/python" -c 'import numpy, h5py, matplotlib, f90nml, pytest' >/dev/null
+"$venv/bin/python" -c 'import numpy, scipy.signal, scipy.spatial, h5py, matplotlib, f90nml, pytest, post' >/dev/null
+"$venv/bin/mbsph-post" --help >/dev/null
 "$venv/bin/fortitude" --version >/dev/null
 "$venv/bin/fypp" --version >/dev/null
 touch "$stamp"

@@ -24,6 +24,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from post import waves  # noqa: E402
+from post.io import read_csv  # noqa: E402
 
 
 def target_at(t: np.ndarray, x: float, signal: dict, x0: float, depth: float) -> np.ndarray:
@@ -74,7 +75,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--fmin", type=float, default=0.5, help="band of Hm0 (Hz); default the signal's 0.5 fp at Tp = 1 s")
     ap.add_argument("--fmax", type=float, default=3.0, help="band of Hm0 (Hz)")
     a = ap.parse_args(argv)
-    sig = np.genfromtxt(a.signal, delimiter=",", names=True)
+    sig = read_csv(a.signal)
     if a.window_spread is not None:
         window_spread(sig, a.window_spread, a.fmin, a.fmax)
         return 0

@@ -41,6 +41,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from post.wave_cases import flume_case  # noqa: E402
+from post.io import read_snapshot  # noqa: E402
 from post.waves import decaying_wave_fit, read_gauges, regular_wave_height  # noqa: E402
 
 DIR = ROOT / "OUT" / "waves_loss"
@@ -135,12 +136,8 @@ def cmd_history(a: argparse.Namespace) -> None:
 
 
 def snapshot(path: str):
-    import h5py
-    with h5py.File(path, "r") as f:
-        ids = f["id"][()]
-        o = np.argsort(ids)
-        return (float(f.attrs["time"]), f["kind"][()][o], f["position"][()][o], f["velocity"][()][o],
-                f["pressure"][()][o], float(f.attrs["dp"]))
+    s = read_snapshot(path)  # particles in id order
+    return s.time, s.kind, s.position, s.velocity, s.pressure, s.dp
 
 
 def cmd_drift(a: argparse.Namespace) -> None:
