@@ -2,6 +2,7 @@
 !> and the particle positions, velocities and normals taken from the pose
 !> every stage, so a body stays exactly rigid.
 module body_dynamics
+   use errors, only: alloc_check
    use kinds, only: rp
    use constants, only: kind_floating, kind_fixed, kind_moving, pi
    use particles, only: particles_t
@@ -152,10 +153,15 @@ contains
    !> Forget the damping matrix of the last evaluation (nb bodies).
    subroutine bodies_damping_reset(nb)
       integer, intent(in) :: nb
+      integer :: ist
+      character(len=200) :: emsg
       if (allocated(cglob)) then
          if (size(cglob, 1) /= 3*nb) deallocate (cglob)
       end if
-      if (.not. allocated(cglob)) allocate (cglob(3*nb, 3*nb))
+      if (.not. allocated(cglob)) then
+         allocate (cglob(3*nb, 3*nb), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'cglob in bodies_damping_reset')
+      end if
       cglob = 0.0_rp
    end subroutine bodies_damping_reset
 
@@ -215,8 +221,15 @@ contains
       real(rp), allocatable :: a(:, :), r(:), q(:)
       real(rp) :: acc(2), alpha, minv(3)
       integer :: nb, b, o, k
+      integer :: ist
+      character(len=200) :: emsg
       nb = size(bodies)
-      allocate (a(3*nb, 3*nb), r(3*nb), q(3*nb))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (a(3*nb, 3*nb), r(3*nb), q(3*nb), stat=ist, errmsg=emsg)
+      if (ist /= 0) then  ! error stop: the compiler cannot know alloc_check stops
+         call alloc_check(ist, emsg, 'a, r, q in implicit_velocities')
+         error stop
+      end if
       a = 0.0_rp
       if (allocated(cglob)) then
          if (size(cglob, 1) == 3*nb) a = step*cglob

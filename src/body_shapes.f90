@@ -1,6 +1,7 @@
 !> Rigid-body shapes: outline, mass properties from the geometry, and the
 !> boundary particles (hollow shells of `layers` rows along the outline).
 module body_shapes
+   use errors, only: alloc_check
    use kinds, only: rp
    use constants, only: pi
    use input_body, only: body_cfg
@@ -24,21 +25,26 @@ contains
       real(rp), allocatable :: v(:, :)
       real(rp) :: a, cen(2), area
       integer :: k
+      integer :: ist
+      character(len=200) :: emsg
       a = c%angle*pi/180.0_rp
       select case (trim(c%shape))
       case ('circle')
-         allocate (v(2, circle_sides))
+         allocate (v(2, circle_sides), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'v in body_outline')
          do k = 1, circle_sides
             v(:, k) = [c%x, c%y] + c%radius*[cos(2*pi*(k - 1)/circle_sides), sin(2*pi*(k - 1)/circle_sides)]
          end do
       case ('box')
-         allocate (v(2, 4))
+         allocate (v(2, 4), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'v in body_outline')
          v = 0.5_rp*reshape([-c%width, -c%height, c%width, -c%height, c%width, c%height, -c%width, c%height], [2, 4])
          v = matmul(rot(a), v)
          v(1, :) = v(1, :) + c%x
          v(2, :) = v(2, :) + c%y
       case default
-         allocate (v(2, c%nvert))
+         allocate (v(2, c%nvert), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'v in body_outline')
          v(1, :) = c%vx(1:c%nvert)
          v(2, :) = c%vy(1:c%nvert)
          call polygon_props(v, area, cen)
@@ -120,9 +126,13 @@ contains
       real(rp) :: mass, cen(2), inertia, r, a, ang
       real(rp), allocatable :: v(:, :), w(:, :), en(:, :), off(:, :)
       integer :: l, k, m, n, ns, nv, j, cap
+      integer :: ist
+      character(len=200) :: emsg
       call body_mass_properties(c, mass, cen, inertia)
       cap = 64
-      allocate (xb(2, cap), nb(2, cap), surf(cap))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (xb(2, cap), nb(2, cap), surf(cap), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'xb, nb, surf in body_particles')
       n = 0
       if (c%shape == 'circle') then
          ang = c%angle*pi/180.0_rp
@@ -141,7 +151,12 @@ contains
          do k = 1, nv
             v(:, k) = v(:, k) - cen
          end do
-         allocate (en(2, nv), off(2, nv), w(2, nv))
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (en(2, nv), off(2, nv), w(2, nv), stat=ist, errmsg=emsg)
+         if (ist /= 0) then  ! error stop: the compiler cannot know alloc_check stops
+            call alloc_check(ist, emsg, 'en, off, w in body_particles')
+            error stop
+         end if
          do k = 1, nv                          ! outward normal of edge k (from vertex k to k+1)
             j = modulo(k, nv) + 1
             en(:, k) = [v(2, j) - v(2, k), -(v(1, j) - v(1, k))]
@@ -177,11 +192,19 @@ contains
          integer, intent(in) :: s
          real(rp), allocatable :: t2(:, :)
          integer, allocatable :: t1(:)
+         integer :: ist
+         character(len=200) :: emsg
          if (n == cap) then
             cap = 2*cap
-            allocate (t2(2, cap)); t2(:, 1:n) = xb(:, 1:n); call move_alloc(t2, xb)
-            allocate (t2(2, cap)); t2(:, 1:n) = nb(:, 1:n); call move_alloc(t2, nb)
-            allocate (t1(cap)); t1(1:n) = surf(1:n); call move_alloc(t1, surf)
+            allocate (t2(2, cap), stat=ist, errmsg=emsg)
+            call alloc_check(ist, emsg, 't2 in push')
+            t2(:, 1:n) = xb(:, 1:n); call move_alloc(t2, xb)
+            allocate (t2(2, cap), stat=ist, errmsg=emsg)
+            call alloc_check(ist, emsg, 't2 in push')
+            t2(:, 1:n) = nb(:, 1:n); call move_alloc(t2, nb)
+            allocate (t1(cap), stat=ist, errmsg=emsg)
+            call alloc_check(ist, emsg, 't1 in push')
+            t1(1:n) = surf(1:n); call move_alloc(t1, surf)
          end if
          n = n + 1
          xb(:, n) = pos

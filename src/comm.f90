@@ -12,6 +12,7 @@ module comm
                       MPI_Alltoallv, MPI_PROC_NULL, MPI_STATUS_IGNORE, MPI_Comm, MPI_Comm_split_type, &
                       MPI_COMM_TYPE_SHARED, MPI_Comm_free
    use, intrinsic :: iso_c_binding, only: c_int
+   use, intrinsic :: iso_fortran_env, only: error_unit
    use kinds, only: rp
    use timers, only: timer_start, timer_stop, t_comm
    implicit none
@@ -204,13 +205,19 @@ contains
    subroutine comm_allgatherv(a, all)
       real(rp), intent(in) :: a(:)
       real(rp), allocatable, intent(out) :: all(:)
-      integer :: counts(n_ranks), displ(n_ranks), r
+      integer :: counts(n_ranks), displ(n_ranks), r, ist
+      character(len=200) :: emsg
       call comm_allgather(size(a), counts)
       displ(1) = 0
       do r = 2, n_ranks
          displ(r) = displ(r - 1) + counts(r - 1)
       end do
-      allocate (all(sum(counts)))
+      allocate (all(sum(counts)), stat=ist, errmsg=emsg)
+      if (ist /= 0) then  ! errors (alloc_check) sits above this module
+         write (error_unit, '(a)') 'mbsph: error: out of memory: cannot allocate all in comm_allgatherv ('// &
+            trim(emsg)//')'
+         call comm_abort(1)
+      end if
       if (n_ranks == 1) then
          all = a
          return

@@ -20,7 +20,7 @@ module comm_halo
    use decomp, only: decomp_owner
    use comm, only: comm_rank, comm_size, comm_sendrecv, comm_alltoall, comm_alltoallv, comm_no_rank
    use timers, only: timer_start, timer_stop, t_comm
-   use errors, only: fatal
+   use errors, only: fatal, alloc_check
    implicit none
    private
    public :: comm_halo_migrate, comm_halo_build, comm_halo_refresh, comm_halo_forward, comm_halo_reverse, &
@@ -55,11 +55,14 @@ contains
    subroutine ensure(buf, n)
       real(rp), allocatable, intent(inout) :: buf(:)
       integer, intent(in) :: n
+      integer :: ist
+      character(len=200) :: emsg
       if (allocated(buf)) then
          if (size(buf) >= n) return
          deallocate (buf)
       end if
-      allocate (buf(max(n, 1024)))
+      allocate (buf(max(n, 1024)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'buf in ensure')
    end subroutine ensure
 
    !> As ensure, keeping the contents.
@@ -67,9 +70,15 @@ contains
       real(rp), allocatable, intent(inout) :: buf(:)
       integer, intent(in) :: n
       real(rp), allocatable :: b(:)
-      if (.not. allocated(buf)) allocate (buf(max(n, 1024)))
+      integer :: ist
+      character(len=200) :: emsg
+      if (.not. allocated(buf)) then
+         allocate (buf(max(n, 1024)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'buf in ensure_keep')
+      end if
       if (size(buf) >= n) return
-      allocate (b(max(n, 2*size(buf))))
+      allocate (b(max(n, 2*size(buf))), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'b in ensure_keep')
       b(1:size(buf)) = buf
       call move_alloc(b, buf)
    end subroutine ensure_keep
@@ -104,6 +113,8 @@ contains
       logical, allocatable, intent(inout) :: drop(:)
       integer :: i, d, me, nl, nr, rl, rr, k
       logical, allocatable :: grown(:)
+      integer :: ist
+      character(len=200) :: emsg
       if (comm_size() == 1) return
       call timer_start(t_comm)
       me = comm_rank()
@@ -144,7 +155,8 @@ contains
       call comm_sendrecv(sbuf2, nr*nfull, right(), rbuf2, rl*nfull, left())
       call particles_grow(p, rl + rr)
       if (size(drop) < size(p%rho)) then
-         allocate (grown(size(p%rho)))
+         allocate (grown(size(p%rho)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'grown in comm_halo_migrate')
          grown(1:p%n) = drop(1:p%n)
          call move_alloc(grown, drop)
       end if
@@ -284,6 +296,8 @@ contains
       type(particles_t), intent(inout) :: p
       integer :: i, d, me, nr, k, m, nkeep
       integer, allocatable :: scount(:), rcount(:), sdispl(:), rdispl(:), dest(:), fill(:)
+      integer :: ist
+      character(len=200) :: emsg
       if (comm_size() == 1) return
       call timer_start(t_comm)
       me = comm_rank()
@@ -291,7 +305,13 @@ contains
       p%n = p%n_own
       n_send = 0
       n_recv = 0
-      allocate (scount(0:nr - 1), rcount(0:nr - 1), sdispl(0:nr - 1), rdispl(0:nr - 1), dest(p%n), fill(0:nr - 1))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (scount(0:nr - 1), rcount(0:nr - 1), sdispl(0:nr - 1), rdispl(0:nr - 1), dest(p%n), fill(0:nr - 1), &
+                stat=ist, errmsg=emsg)
+      if (ist /= 0) then  ! error stop: the compiler cannot know alloc_check stops
+         call alloc_check(ist, emsg, 'scount, rcount, sdispl, ... in comm_halo_redistribute')
+         error stop
+      end if
       scount = 0
       do i = 1, p%n
          dest(i) = decomp_owner(p%x(1, i))

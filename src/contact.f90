@@ -5,6 +5,7 @@
 !> Every pair force is applied equal and opposite. doc/contact.md says how
 !> each symbol is computed.
 module contact
+   use errors, only: alloc_check
    use kinds, only: rp
    use constants, only: pi, kind_fluid, kind_floating
    use params, only: params_t
@@ -101,7 +102,11 @@ contains
       real(rp), parameter :: alpha_max = 15.0_rp, ddt = 2.0e-3_rp
       integer :: k, m
       real(rp) :: a, d, v, k1(2), k2(2), k3(2), k4(2)
-      allocate (ct%tab_alpha(0:na), ct%tab_e(0:na))
+      integer :: ist
+      character(len=200) :: emsg
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (ct%tab_alpha(0:na), ct%tab_e(0:na), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'ct%tab_alpha, ct%tab_e in tsuji_table')
       do k = 0, na
          ! dense near alpha = 0, where e changes fastest
          a = alpha_max*(real(k, rp)/na)**2
@@ -426,8 +431,14 @@ contains
          integer, intent(in) :: i, j, bi, bj, k
          real(rp), intent(in) :: n(2), w, q
          integer :: cap
-         if (.not. allocated(ct%pkey)) allocate (ct%pij(2, 256), ct%pb(2, 256), ct%pkey(256), ct%pn(2, 256), &
-                                                 ct%pw(256), ct%pq(256))
+         integer :: ist
+         character(len=200) :: emsg
+         if (.not. allocated(ct%pkey)) then
+            ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+            allocate (ct%pij(2, 256), ct%pb(2, 256), ct%pkey(256), ct%pn(2, 256), &
+                      ct%pw(256), ct%pq(256), stat=ist, errmsg=emsg)
+            call alloc_check(ist, emsg, 'ct%pij, ct%pb, ct%pkey, ... in store_pair')
+         end if
          cap = size(ct%pkey)
          if (ct%np == cap) then
             ct%pij = reshape([ct%pij, spread(0, 1, 2*cap)], [2, 2*cap])
@@ -576,10 +587,17 @@ contains
       type(contact_t), intent(inout) :: ct
       integer, intent(in) :: a, b
       integer :: lo, hi
+      integer :: ist
+      character(len=200) :: emsg
       lo = min(a, b); hi = max(a, b)
       k = slot_of(ct%kid, ct%nk, lo, hi)
       if (k > 0) return
-      if (.not. allocated(ct%kid)) allocate (ct%kid(2, 16), ct%kx(2, 16), ct%kw(16), ct%kt(3, 16), ct%kmem(16), ct%kv(2, 16))
+      if (.not. allocated(ct%kid)) then
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (ct%kid(2, 16), ct%kx(2, 16), ct%kw(16), ct%kt(3, 16), ct%kmem(16), ct%kv(2, 16), &
+                   stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'ct%kid, ct%kx, ct%kw, ... in key_index')
+      end if
       if (ct%nk == size(ct%kw)) then
          ct%kid = reshape([ct%kid, spread(0, 1, 2*ct%nk)], [2, 2*ct%nk])
          ct%kx = reshape([ct%kx, spread(0.0_rp, 1, 2*ct%nk)], [2, 2*ct%nk])
@@ -623,8 +641,12 @@ contains
       integer, allocatable :: ids(:, :)
       real(rp), allocatable :: xis(:, :)
       real(rp) :: xc(2), nn(2), vrel(2), xi(2), s
+      integer :: ist
+      character(len=200) :: emsg
       if (ct%xi_max <= 0.0_rp .or. ct%model == model_dynamic .or. ct%model == model_hertz) return
-      allocate (ids(2, ct%nk), xis(2, ct%nk))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (ids(2, ct%nk), xis(2, ct%nk), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'ids, xis in contact_memory_advance')
       n = 0
       do k = 1, ct%nk
          if (ct%kw(k) <= 0.0_rp) cycle
@@ -665,7 +687,10 @@ contains
       type(contact_t), intent(in) :: ct
       real(rp), allocatable, intent(out) :: tab(:, :)
       integer :: m
-      allocate (tab(4, ct%nm))
+      integer :: ist
+      character(len=200) :: emsg
+      allocate (tab(4, ct%nm), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'tab in contact_memory_get')
       do m = 1, ct%nm
          tab(:, m) = [real(ct%mid(1, m), rp), real(ct%mid(2, m), rp), ct%mxi(:, m)]
       end do
@@ -676,9 +701,13 @@ contains
       type(contact_t), intent(inout) :: ct
       integer, intent(in) :: ids(:, :)
       real(rp), intent(in) :: xis(:, :)
+      integer :: ist
+      character(len=200) :: emsg
       ct%nm = size(ids, 2)
       if (allocated(ct%mid)) deallocate (ct%mid, ct%mxi)
-      allocate (ct%mid(2, max(ct%nm, 1)), ct%mxi(2, max(ct%nm, 1)))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (ct%mid(2, max(ct%nm, 1)), ct%mxi(2, max(ct%nm, 1)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'ct%mid, ct%mxi in contact_memory_set')
       ct%mid(:, 1:ct%nm) = ids
       ct%mxi(:, 1:ct%nm) = xis
       ! the sweep's contacts point into the old table: they are rebuilt at the next evaluation
@@ -694,7 +723,10 @@ contains
       integer, parameter :: nv = 10          ! per key: two ids, kx(2), kw, kt(3), kv(2)
       real(rp), allocatable :: mine(:), all(:)
       integer :: k, m, o
-      allocate (mine(nv*ct%nk))
+      integer :: ist
+      character(len=200) :: emsg
+      allocate (mine(nv*ct%nk), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'mine in merge_keys')
       do k = 1, ct%nk
          mine(nv*(k - 1) + 1:nv*k) = [real(ct%kid(1, k), rp), real(ct%kid(2, k), rp), ct%kx(:, k), ct%kw(k), ct%kt(:, k), &
                                        ct%kv(:, k)]
@@ -774,10 +806,15 @@ contains
       type(body_t), intent(in) :: bodies(:)
       integer :: i, b
       real(rp) :: reach
+      integer :: ist
+      character(len=200) :: emsg
       if (allocated(ct%cand)) then
          if (size(ct%cand) < p%n) deallocate (ct%cand)
       end if
-      if (.not. allocated(ct%cand)) allocate (ct%cand(size(p%rho)))
+      if (.not. allocated(ct%cand)) then
+         allocate (ct%cand(size(p%rho)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'ct%cand in find_candidates')
+      end if
       slots: do i = 1, p%n
          ct%cand(i) = .false.
          if (p%surf(i) == 0 .or. p%kind(i) == kind_fluid) cycle slots

@@ -4,6 +4,7 @@
 !> the rank whose slab holds its column (grid_column). The edges are chosen
 !> so that every rank owns about the same number of particles.
 module decomp
+   use errors, only: alloc_check
    use kinds, only: rp
    use grid, only: grid_column
    implicit none
@@ -25,13 +26,17 @@ contains
       real(rp), intent(in) :: xmin, cell
       integer, intent(in) :: ncolumns, nranks, rank
       integer :: r
+      integer :: ist
+      character(len=200) :: emsg
       x0 = xmin
       cs = cell
       ncol = ncolumns
       nr = nranks
       me = rank
       if (allocated(edge)) deallocate (edge, owner)
-      allocate (edge(0:nr), owner(0:ncol - 1))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (edge(0:nr), owner(0:ncol - 1), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'edge, owner in decomp_init')
       do r = 0, nr
          edge(r) = (r*ncol)/nr
       end do

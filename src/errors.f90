@@ -46,11 +46,22 @@ contains
    subroutine alloc_check(stat, msg, what, n)
       integer, intent(in) :: stat
       character(len=*), intent(in) :: msg, what
-      integer, intent(in) :: n          !< elements asked for (particles, pairs, cells)
-      character(len=16) :: b
+      integer, intent(in), optional :: n  !< elements asked for (particles, pairs, cells)
+      character(len=32) :: b, code
+      character(len=:), allocatable :: why
       if (stat == 0) return
-      write (b, '(i0)') n
-      call fatal('out of memory: cannot allocate '//what//' for '//trim(b)//' (' //trim(msg)// &
+      write (code, '(i0)') stat
+      ! gfortran 12 gives a refused allocation the errmsg of a double one
+      ! ('Attempt to allocate an allocated object'); the solver allocates only
+      ! what is not allocated, so that text is left out
+      if (index(msg, 'allocated object') > 0 .or. len_trim(msg) == 0) then
+         why = 'allocate stat '//trim(code)
+      else
+         why = trim(msg)//', allocate stat '//trim(code)
+      end if
+      b = ''
+      if (present(n)) write (b, '(a, i0)') ' for ', n
+      call fatal('out of memory: cannot allocate '//what//trim(b)//' ('//why// &
                  '): raise dp, or run on more ranks or where more memory is available')
    end subroutine alloc_check
 

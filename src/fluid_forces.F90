@@ -122,19 +122,25 @@ contains
       call alloc_check(ist, emsg, 'the force arrays', nmax)
       ! arrays of models that are off stay minimal
       if (prm%diffusion /= diff_none) then
-         allocate (w%rhod(nmax))
+         allocate (w%rhod(nmax), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'w%rhod in ensure')
       else
-         allocate (w%rhod(1))
+         allocate (w%rhod(1), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'w%rhod in ensure')
       end if
       if (prm%kgc == kgc_gradient) then
-         allocate (w%lm(3, nmax))
+         allocate (w%lm(3, nmax), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'w%lm in ensure')
       else
-         allocate (w%lm(3, 1))
+         allocate (w%lm(3, 1), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'w%lm in ensure')
       end if
       if (prm%visc == visc_laminar_sps) then
-         allocate (w%tau(3, nmax))
+         allocate (w%tau(3, nmax), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'w%tau in ensure')
       else
-         allocate (w%tau(3, 1))
+         allocate (w%tau(3, 1), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'w%tau in ensure')
       end if
    end subroutine ensure
 
@@ -200,7 +206,10 @@ contains
       integer :: i, j, k
       real(rp) :: dx, dy, fac, vi, vj, dvx, dvy, sxx, sxy, syy, s2, nut, sk, xi, yi, vxi, vyi
       real(rp) :: b1, b2, b3, g1, g2, g3, g4
-      allocate (gv(4, p%n))          ! du/dx, du/dy, dv/dx, dv/dy
+      integer :: ist
+      character(len=200) :: emsg
+      allocate (gv(4, p%n), stat=ist, errmsg=emsg)  ! du/dx, du/dy, dv/dx, dv/dy
+      call alloc_check(ist, emsg, 'gv in sps_stress')
       gv = 0.0_rp
       ! one copy of the pass per choice: no test inside the pair loop
 #define PRE_SPS 1

@@ -19,7 +19,7 @@ module input
    use constants, only: pi
    use body_shapes, only: body_outline
    use geom, only: polygons_overlap
-   use errors, only: input_error, fatal
+   use errors, only: input_error, fatal, alloc_check
    implicit none
    private
    public :: case_cfg, read_case, write_case
@@ -102,8 +102,11 @@ contains
       type(geom_object), allocatable :: more(:)
       type(body_cfg), allocatable :: units(:)
       real(rp) :: h
+      integer :: ist
+      character(len=200) :: emsg
       h = c%numerics%h_over_dp*c%numerics%dp
-      allocate (more(0))
+      allocate (more(0), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'more in expand_flume')
       if (c%breakwater%on) then
          call breakwater_objects(c%file, c%breakwater, c%wavemaker%on, c%domain%xmin, c%domain%xmax, c%domain%ymin, &
                                  c%numerics%dp, h, more)
@@ -111,7 +114,8 @@ contains
       end if
       if (c%wavemaker%on) then
          if (allocated(more)) deallocate (more)
-         allocate (more(1))
+         allocate (more(1), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'more in expand_flume')
          more(1) = paddle_object(c%wavemaker, c%numerics%dp, h)
          call append_objects(c%objs, more)
       end if
@@ -127,8 +131,11 @@ contains
       type(geom_object), allocatable, intent(inout) :: a(:), b(:)
       type(geom_object), allocatable :: t(:)
       integer :: na
+      integer :: ist
+      character(len=200) :: emsg
       na = size(a)
-      allocate (t(na + size(b)))
+      allocate (t(na + size(b)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 't in append_objects')
       t(1:na) = a
       t(na + 1:) = b
       call move_alloc(t, a)
@@ -217,10 +224,13 @@ contains
       integer :: i, k
       real(rp), allocatable :: vi(:, :), vk(:, :)
       character(len=16) :: bi, bk
+      integer :: ist
+      character(len=200) :: emsg
       do i = 1, size(c%bodies)
          write (bi, '(i0)') i
          if (allocated(vi)) deallocate (vi)
-         allocate (vi, source=body_outline(c%bodies(i)))
+         allocate (vi, source=body_outline(c%bodies(i)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'vi in check_bodies')
          if (minval(vi(1, :)) < c%domain%xmin - tol .or. maxval(vi(1, :)) > c%domain%xmax + tol .or. &
              minval(vi(2, :)) < c%domain%ymin - tol .or. maxval(vi(2, :)) > c%domain%ymax + tol) then
             call input_error(c%file, 'body #'//trim(bi), '', 'the body reaches outside the &domain')
@@ -235,7 +245,8 @@ contains
          do k = 1, i - 1
             write (bk, '(i0)') k
             if (allocated(vk)) deallocate (vk)
-            allocate (vk, source=body_outline(c%bodies(k)))
+            allocate (vk, source=body_outline(c%bodies(k)), stat=ist, errmsg=emsg)
+            call alloc_check(ist, emsg, 'vk in check_bodies')
             if (polygons_overlap(vi, vk, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
               call input_error(c%file, 'body #'//trim(bi), '', 'the body overlaps &body #'//trim(bk))
             end if

@@ -5,7 +5,7 @@ module input_body
    use constants, only: name_len, msg_len, pi
    use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, check_choice, group_count, &
                           int_str, real_str
-   use errors, only: input_error
+   use errors, only: input_error, alloc_check
    use geom, only: polygon_area, polygon_self_intersects
    use options, only: contact_names
    implicit none
@@ -92,8 +92,11 @@ contains
       integer :: nb, k, u_, ios
       character(len=msg_len) :: msg
       character(len=:), allocatable :: g
+      integer :: ist
+      character(len=200) :: emsg
       nb = group_count(file, 'body')
-      allocate (bodies(nb))
+      allocate (bodies(nb), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'bodies in read_bodies')
       if (nb == 0) return
       u_ = open_case(file)
       do k = 1, nb

@@ -5,7 +5,7 @@ module input_geometry
    use constants, only: name_len, msg_len
    use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, check_choice, &
                           group_count, int_str, real_str
-   use errors, only: input_error
+   use errors, only: input_error, alloc_check
    use geom, only: polygon_area, polygon_self_intersects
    implicit none
    private
@@ -61,10 +61,13 @@ contains
       integer :: nbox, npoly, nslope, u, ios, k, n
       character(len=msg_len) :: msg
       character(len=:), allocatable :: g
+      integer :: ist
+      character(len=200) :: emsg
       nbox = group_count(file, 'box')
       npoly = group_count(file, 'polygon')
       nslope = group_count(file, 'slope')
-      allocate (objs(nbox + npoly + nslope))
+      allocate (objs(nbox + npoly + nslope), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'objs in read_geometry')
       n = 0
       u = open_case(file)
       do k = 1, nbox
@@ -95,7 +98,8 @@ contains
          objs(n)%group = 'polygon'
          objs(n)%index = k
          objs(n)%nv = nvert
-         allocate (objs(n)%v(2, nvert))
+         allocate (objs(n)%v(2, nvert), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'objs in read_geometry')
          objs(n)%v(1, :) = x(1:nvert)
          objs(n)%v(2, :) = y(1:nvert)
          if (abs(polygon_area(objs(n)%v)) < 1.0e-12_rp*maxval(abs(objs(n)%v))**2) then

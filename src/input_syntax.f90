@@ -8,7 +8,7 @@ module input_syntax
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use kinds, only: rp
    use constants, only: msg_len
-   use errors, only: fatal
+   use errors, only: fatal, alloc_check
    implicit none
    private
    public :: assign_t, syntax_scan, syntax_check, is_name, lower
@@ -62,8 +62,11 @@ contains
       character(len=msg_len), intent(out) :: err
       character(len=:), allocatable :: s
       integer, allocatable :: ln(:)
+      integer :: ist
+      character(len=200) :: emsg
       err = ''
-      allocate (a(0))
+      allocate (a(0), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'a in syntax_scan')
       call load(file, s, ln, err)
       if (len_trim(err) > 0) return
       call scan_text(s, ln, a, err)
@@ -79,7 +82,11 @@ contains
       integer :: k, e, ig
       character(len=32), allocatable :: seen(:)
       integer, allocatable :: nseen(:)
-      allocate (seen(0), nseen(0))
+      integer :: ist
+      character(len=200) :: emsg
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (seen(0), nseen(0), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'seen, nseen in scan_text')
       k = 1
       groups: do
          ! outside a group everything up to the next & is ignored, as the reader does
@@ -294,16 +301,28 @@ contains
       integer :: u, ios, line, i, m, pass, total, k
       logical :: in_str
       character :: q
+      integer :: ist
+      character(len=200) :: emsg
       open (newunit=u, file=file, status='old', action='read', iostat=ios, iomsg=msg)
       if (ios /= 0) then
          err = 'cannot open the case file: '//trim(msg)
+         s = achar(10)      ! allocated on every path: the caller's scan needs no other case
+         ln = [0]
          return
       end if
       total = 0
       do pass = 1, 2
          if (pass == 2) then
-            allocate (character(len=max(total, 1)) :: s)
-            allocate (ln(max(total, 1)))
+            allocate (character(len=max(total, 1)) :: s, stat=ist, errmsg=emsg)
+            if (ist /= 0) then  ! error stop: the compiler cannot know alloc_check stops
+               call alloc_check(ist, emsg, 's in load')
+               error stop
+            end if
+            allocate (ln(max(total, 1)), stat=ist, errmsg=emsg)
+            if (ist /= 0) then  ! error stop: the compiler cannot know alloc_check stops
+               call alloc_check(ist, emsg, 'ln in load')
+               error stop
+            end if
             s(:) = achar(10)          ! s(:): an assignment to s would reallocate it
             ln = 1
             rewind (u)

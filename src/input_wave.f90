@@ -6,7 +6,7 @@ module input_wave
    use constants, only: name_len, path_len, msg_len
    use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, check_choice, &
                           group_count, int_str
-   use errors, only: input_error
+   use errors, only: input_error, alloc_check
    use input_breakwater, only: breakwater_cfg
    implicit none
    private
@@ -158,8 +158,11 @@ contains
       integer :: n, u, ios, k
       character(len=msg_len) :: msg
       type(gauge_cfg) :: d
+      integer :: ist
+      character(len=200) :: emsg
       n = group_count(file, 'gauge')
-      allocate (gs(n))
+      allocate (gs(n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'gs in read_gauges')
       if (n == 0) return
       u = open_case(file)
       do k = 1, n

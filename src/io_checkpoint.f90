@@ -14,7 +14,7 @@ module io_checkpoint
    use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_write_part, h5_read, &
                       h5_attr_write, h5_attr_read, h5_attr_exists, h5_length, h5_exists, file_rename
    use comm, only: comm_rank, comm_size, comm_exscan, comm_allgather, comm_sum
-   use errors, only: input_error
+   use errors, only: input_error, alloc_check
    use input_check, only: int_str, real_str
    use decomp, only: decomp_edges
    implicit none
@@ -42,6 +42,8 @@ contains
       character(len=:), allocatable :: path
       integer :: n, off, tot, counts(comm_size())
       real(rp) :: sums(1)
+      integer :: ist
+      character(len=200) :: emsg
       n = p%n_own
       call comm_allgather(n, counts)
       off = comm_exscan(n)
@@ -78,7 +80,8 @@ contains
       call h5_attr_write(f, 'h_swl', st%h_swl)
       call h5_attr_write(f, 'y_surface', st%y_surface)
       if (size(bodies) > 0) then
-         allocate (bs(6, size(bodies)))
+         allocate (bs(6, size(bodies)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'bs in checkpoint_write')
          do b = 1, size(bodies)
             bs(:, b) = [bodies(b)%c, bodies(b)%theta, bodies(b)%v, bodies(b)%omega]
          end do
@@ -110,6 +113,8 @@ contains
       logical :: parts
       real(rp), allocatable :: bs(:, :)
       real(rp) :: sum_file
+      integer :: ist
+      character(len=200) :: emsg
       f = h5_open_read(trim(out_dir)//'/checkpoint.h5')
       n = h5_length(f, 'rho')
       call particles_alloc(p, n)
@@ -119,11 +124,15 @@ contains
       if (parts) parts = h5_exists(f, 'slab_edges')
       if (parts) then
          nr = h5_length(f, 'rank_counts')
-         allocate (counts(nr), edges(nr + 1))
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (counts(nr), edges(nr + 1), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'counts, edges in checkpoint_read')
          call h5_read(f, 'rank_counts', counts)
          call h5_read(f, 'slab_edges', edges)
       else
-         allocate (counts(1), edges(0))
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (counts(1), edges(0), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'counts, edges in checkpoint_read')
          counts(1) = n
       end if
       call h5_read(f, 'x', p%x)
@@ -162,7 +171,8 @@ contains
       call h5_attr_read(f, 'h_swl', st%h_swl)
       call h5_attr_read(f, 'y_surface', st%y_surface)
       if (size(bodies) > 0) then
-         allocate (bs(6, size(bodies)))
+         allocate (bs(6, size(bodies)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'bs in checkpoint_read')
          call h5_read(f, 'bodies', bs)
          do b = 1, size(bodies)
             bodies(b)%c = bs(1:2, b)
@@ -172,10 +182,12 @@ contains
          end do
       end if
       if (h5_exists(f, 'contact_memory')) then
-         allocate (mem(4, h5_length(f, 'contact_memory')))
+         allocate (mem(4, h5_length(f, 'contact_memory')), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'mem in checkpoint_read')
          call h5_read(f, 'contact_memory', mem)
       else
-         allocate (mem(4, 0))
+         allocate (mem(4, 0), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'mem in checkpoint_read')
       end if
       call h5_close(f)
    end subroutine checkpoint_read

@@ -11,7 +11,7 @@ module io_snapshot
                       h5_attr_read, h5_length, file_rename
    use comm, only: comm_rank, comm_exscan, comm_sum
    use io_files, only: snap_name, file_exists
-   use errors, only: fatal
+   use errors, only: fatal, alloc_check
    use body_dynamics, only: body_t
    implicit none
    private
@@ -36,13 +36,17 @@ contains
       integer(hid_t) :: f
       integer, allocatable :: ord(:), conn(:)
       integer :: i, n, off, tot(1)
+      integer :: ist
+      character(len=200) :: emsg
       n = p%n_own
-      allocate (ord(n))
+      allocate (ord(n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'ord in snapshot_write')
       call order_by_id(p%id(1:n), ord)
       off = comm_exscan(n)
       tot = n
       call comm_sum(tot)
-      allocate (conn(n))
+      allocate (conn(n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'conn in snapshot_write')
       do i = 1, n
          conn(i) = off + i - 1
       end do
@@ -79,8 +83,11 @@ contains
       integer, intent(out) :: ord(:)
       integer, allocatable :: tmp(:)
       integer :: n, w, lo, mid, hi, i, j, k
+      integer :: ist
+      character(len=200) :: emsg
       n = size(id)
-      allocate (tmp(n))
+      allocate (tmp(n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'tmp in order_by_id')
       do i = 1, n
          ord(i) = i
       end do
@@ -120,12 +127,17 @@ contains
       integer, allocatable :: start(:)
       real(rp), allocatable :: xy(:, :), pose(:, :)
       real(rp) :: cs, sn
-      allocate (start(size(bodies) + 1), pose(3, size(bodies)))
+      integer :: ist
+      character(len=200) :: emsg
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (start(size(bodies) + 1), pose(3, size(bodies)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'start, pose in write_outlines')
       start(1) = 0
       do b = 1, size(bodies)
          start(b + 1) = start(b) + size(bodies(b)%outline, 2)
       end do
-      allocate (xy(2, start(size(bodies) + 1)))
+      allocate (xy(2, start(size(bodies) + 1)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'xy in write_outlines')
       m = 0
       do b = 1, size(bodies)
          cs = cos(bodies(b)%theta - bodies(b)%theta_start)
@@ -148,9 +160,17 @@ contains
       real(rp), intent(in) :: t
       real(rp), allocatable :: tt(:)
       integer, allocatable :: nn(:)
-      if (.not. allocated(list_t)) allocate (list_t(64), list_n(64))
+      integer :: ist
+      character(len=200) :: emsg
+      if (.not. allocated(list_t)) then
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (list_t(64), list_n(64), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'list_t, list_n in list_set')
+      end if
       if (k + 1 > size(list_t)) then
-         allocate (tt(2*(k + 1)), nn(2*(k + 1)))
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (tt(2*(k + 1)), nn(2*(k + 1)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'tt, nn in list_set')
          tt(1:nlist) = list_t(1:nlist)
          nn(1:nlist) = list_n(1:nlist)
          call move_alloc(tt, list_t)

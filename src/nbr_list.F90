@@ -46,10 +46,14 @@ contains
       real(rp) :: xi, yi, dx, dy, r2, q, hinv
       integer :: ist
       character(len=200) :: emsg
-      if (.not. allocated(nb%first)) allocate (nb%first(n + 1))
+      if (.not. allocated(nb%first)) then
+         allocate (nb%first(n + 1), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'nb%first in nbr_build')
+      end if
       if (size(nb%first) < n + 1) then
          deallocate (nb%first)
-         allocate (nb%first(n + 1))
+         allocate (nb%first(n + 1), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'nb%first in nbr_build')
       end if
       ! a first guess of the size (13 pairs a particle at h = sqrt(2) dp, 16 at
       ! 1.6 dp): grown by a quarter when short, so that it stays close to the need

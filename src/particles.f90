@@ -82,14 +82,20 @@ contains
       type(particles_t), intent(inout) :: p
       integer, intent(in) :: perm(:), nnew
       integer :: d, k, nmoved
+      integer :: ist
+      character(len=200) :: emsg
       ! Between two sorts few particles change cell: perm is the identity
       ! almost everywhere. Only the moved slots are copied (their sources are
       ! the same set of slots), which keeps the sort's memory traffic
       ! proportional to the particles that moved, not to all of them.
-      if (.not. allocated(moved)) allocate (moved(size(p%rho)))
+      if (.not. allocated(moved)) then
+         allocate (moved(size(p%rho)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'moved in particles_permute')
+      end if
       if (size(moved) < size(p%rho)) then
          deallocate (moved)
-         allocate (moved(size(p%rho)))
+         allocate (moved(size(p%rho)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'moved in particles_permute')
       end if
       nmoved = 0
       do k = 1, nnew
@@ -98,15 +104,23 @@ contains
             moved(nmoved) = k
          end if
       end do
-      if (.not. allocated(rtmp)) allocate (rtmp(max(nmoved, 1)))
+      if (.not. allocated(rtmp)) then
+         allocate (rtmp(max(nmoved, 1)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'rtmp in particles_permute')
+      end if
       if (size(rtmp) < nmoved) then
          deallocate (rtmp, itmp)
-         allocate (rtmp(max(nmoved, size(p%rho)/8)))
+         allocate (rtmp(max(nmoved, size(p%rho)/8)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'rtmp in particles_permute')
       end if
-      if (.not. allocated(itmp)) allocate (itmp(size(rtmp)))
+      if (.not. allocated(itmp)) then
+         allocate (itmp(size(rtmp)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'itmp in particles_permute')
+      end if
       if (size(itmp) < size(rtmp)) then
          deallocate (itmp)
-         allocate (itmp(size(rtmp)))
+         allocate (itmp(size(rtmp)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'itmp in particles_permute')
       end if
       if (nmoved > 0) then
          do d = 1, ndim

@@ -15,7 +15,7 @@ module probe_gauges
    use comm, only: comm_sum
    use particles, only: particles_t
    use kernel, only: kernel_w
-   use errors, only: fatal
+   use errors, only: fatal, alloc_check
    implicit none
    private
    public :: gauges_open, gauges_sample, gauges_close, gauge_values
@@ -100,11 +100,14 @@ contains
       real(rp), allocatable :: acc(:)
       integer :: k, nc, ny, off
       real(rp) :: dy, ybot
+      integer :: ist
+      character(len=200) :: emsg
       dy = 0.25_rp*prm%dp
       ybot = g%y0
       ny = ceiling(g%ncy*g%csy/dy) + 1
       ! one block per gauge: ny kernel sums (elevation) or 2 (pressure)
-      allocate (acc(size(gs)*ny))
+      allocate (acc(size(gs)*ny), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'acc in gauge_values')
       acc = 0.0_rp
       do k = 1, size(gs)
          off = (k - 1)*ny
@@ -215,8 +218,12 @@ contains
       integer, intent(inout) :: cap
       real(rp), allocatable :: t1(:), t2(:), t3(:), t4(:)
       integer :: m
+      integer :: ist
+      character(len=200) :: emsg
       m = max(256, 2*cap)
-      allocate (t1(m), t2(m), t3(m), t4(m))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (t1(m), t2(m), t3(m), t4(m), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 't1, t2, t3, ... in grow')
       if (cap > 0) then
          t1(1:cap) = cy(1:cap)
          t2(1:cap) = cdx(1:cap)

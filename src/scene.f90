@@ -12,7 +12,7 @@ module scene
    use params, only: params_t, params_init
    use eos, only: eos_density_at_depth
    use geom, only: point_in_polygon, nearest_edge_normal, distance_to_polygon, polygon_area
-   use errors, only: fatal
+   use errors, only: fatal, alloc_check
    implicit none
    private
    public :: scene_build, scene_bodies, scene_no_fluid, scene_estimate
@@ -35,11 +35,14 @@ contains
       integer :: k, i, nf
       real(rp) :: dp, ybed, ytop
       type(outline_t), allocatable :: holes(:)
+      integer :: ist
+      character(len=200) :: emsg
       dp = c%numerics%dp
       p%n = 0
       p%n_id = 0
       ! bodies displace the fluid: their outlines are holes in every fluid fill
-      allocate (holes(size(c%bodies)))
+      allocate (holes(size(c%bodies)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'holes in scene_build')
       do k = 1, size(c%bodies)
          holes(k)%v = body_outline(c%bodies(k))
       end do
@@ -115,8 +118,11 @@ contains
       type(body_t), allocatable, intent(out) :: bodies(:)
       type(particles_t), intent(inout), optional :: p
       integer :: k, layers
+      integer :: ist
+      character(len=200) :: emsg
       layers = max(1, ceiling(2.0_rp*c%numerics%h_over_dp - 1.0e-9_rp))
-      allocate (bodies(size(c%bodies)))
+      allocate (bodies(size(c%bodies)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'bodies in scene_bodies')
       do k = 1, size(c%bodies)
          call add_body(c%bodies(k), size(c%objs) + k, c%numerics%dp, &
                        merge(c%bodies(k)%layers, layers, c%bodies(k)%layers > 0), bodies(k), p)

@@ -10,7 +10,7 @@ module scene_flume
    use input_wave, only: wavemaker_cfg
    use input_breakwater, only: breakwater_cfg, armour_cfg
    use input_check, only: int_str, real_str
-   use errors, only: input_error
+   use errors, only: input_error, alloc_check
    implicit none
    private
    public :: armour_layer_t, paddle_object, breakwater_objects, armour_units, breakwater_levels
@@ -42,6 +42,8 @@ contains
       type(geom_object) :: o
       real(rp) :: thick, top
       integer :: layers
+      integer :: ist
+      character(len=200) :: emsg
       layers = wm%layers
       if (layers == 0) layers = max(1, ceiling(2.0_rp*h/dp - 1.0e-9_rp))
       thick = layers*dp
@@ -55,7 +57,8 @@ contains
       o%hinge_depth = wm%depth
       o%box = [wm%x0 - thick, wm%x0, wm%y_bed, top]
       o%nv = 4
-      allocate (o%v(2, 4))
+      allocate (o%v(2, 4), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'o%v in paddle_object')
       o%v = reshape([o%box(1), o%box(3), o%box(2), o%box(3), o%box(2), o%box(4), o%box(1), o%box(4)], [2, 4])
    end function paddle_object
 
@@ -166,6 +169,8 @@ contains
       type(row_t) :: r
       integer :: ncap, n, i, k
       character(len=*), parameter :: g = 'armour'
+      integer :: ist
+      character(len=200) :: emsg
       call breakwater_levels(bw, x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c)
       layer%alpha = atan(1.0_rp/bw%slope_cot)
       t = [cos(layer%alpha), sin(layer%alpha)]
@@ -202,7 +207,9 @@ contains
          'the layer cannot reach porosity '//real_str(ar%porosity)//' with these tilts (reached '// &
          real_str(layer%porosity)//')')
       i = merge(1, 0, ar%toe_block)
-      allocate (bodies(n + i), layer%pose(3, n))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (bodies(n + i), layer%pose(3, n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'bodies, layer%pose in armour_units')
       if (ar%toe_block) then
          bodies(1) = unit_cfg(ar, p0, t, nrm, layer%alpha, 0.5_rp*ar%dn, 0.0_rp)
          bodies(1)%motion = 'fixed'
@@ -221,7 +228,11 @@ contains
       integer, intent(in) :: ncap
       type(row_t), intent(inout) :: r
       integer :: i, state
-      allocate (r%tilt(ncap), r%wgt(ncap))
+      integer :: ist
+      character(len=200) :: emsg
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (r%tilt(ncap), r%wgt(ncap), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'r%tilt, r%wgt in draw_units')
       r%tilt = 0.0_rp
       r%wgt = 1.0_rp
       state = ar%seed
@@ -267,8 +278,11 @@ contains
       real(rp), intent(in) :: gs
       real(rp) :: s
       integer :: k
+      integer :: ist
+      character(len=200) :: emsg
       if (allocated(r%sc)) deallocate (r%sc)
-      allocate (r%sc(m))
+      allocate (r%sc(m), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'r%sc in place_units')
       s = r%s0
       do k = 1, m
          if (k > 1) s = s + gs*r%wgt(k)

@@ -37,7 +37,7 @@ module solver
    use logger, only: log_open, log_close, log_line, log_progress
    use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup
    use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max, comm_allgather, comm_node_size
-   use errors, only: fatal, input_error
+   use errors, only: fatal, input_error, alloc_check
    use wave_paddle, only: paddle_init
    use wave_damping, only: damping_apply
    use probe_gauges, only: gauges_open, gauges_sample, gauges_close
@@ -126,6 +126,8 @@ contains
       type(case_cfg), intent(in) :: c
       integer, allocatable :: counts(:), edges(:)
       real(rp), allocatable :: mem(:, :)
+      integer :: ist
+      character(len=200) :: emsg
       cfg = c
       out = trim(c%run%out_dir)
       call timer_start(t_setup)
@@ -167,7 +169,9 @@ contains
          st%n_fluid0 = particles_count_kind(p, kind_fluid)
          st%h_swl = prm%h_swl
          st%y_surface = prm%y_surface
-         allocate (counts(1), edges(0))
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (counts(1), edges(0), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'counts, edges in setup')
          counts = p%n
       end if
       ! every rank holds the whole set until decompose: count it now
@@ -188,7 +192,9 @@ contains
          if (comm_rank() == 0) call bodies_csv_open(out, c%run%restart, st%t)
       end if
       call banner()
-      allocate (drop(size(p%rho)), scratch1(size(p%rho)), scratch2(size(p%rho)))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (drop(size(p%rho)), scratch1(size(p%rho)), scratch2(size(p%rho)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'drop, scratch1, scratch2 in setup')
       ! text files are rank 0's
       if (comm_rank() == 0) call energy_open(out, c%run%restart, st%istep)
       if (c%run%restart) then
@@ -353,6 +359,8 @@ contains
       integer, allocatable :: hist(:), perm(:)
       integer :: nr, me, i, k, r, first, nkeep
       logical :: same, moved
+      integer :: ist
+      character(len=200) :: emsg
       nr = comm_size()
       me = comm_rank()
       call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h)
@@ -364,7 +372,8 @@ contains
          call decomp_set_edges(edges)
       else if (cfg%run%restart .and. cfg%run%balance_every > 0) then
          ! (a new run starts from slabs of equal width and balances at step 0)
-         allocate (hist(0:g%ncx_all - 1))
+         allocate (hist(0:g%ncx_all - 1), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'hist in decompose')
          hist = 0
          do i = 1, p%n
             k = decomp_column(p%x(1, i))
@@ -374,7 +383,8 @@ contains
       end if
       ! the particles of this slab; restarting on as many ranks, this rank's
       ! part of the file first, then the others' (as migration appends them)
-      allocate (perm(p%n))
+      allocate (perm(p%n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'perm in decompose')
       nkeep = 0
       if (same) then
          first = sum(counts(1:me))
@@ -411,7 +421,10 @@ contains
    subroutine rebalance()
       integer, allocatable :: hist(:)
       integer :: i, k
-      allocate (hist(0:g%ncx_all - 1))
+      integer :: ist
+      character(len=200) :: emsg
+      allocate (hist(0:g%ncx_all - 1), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'hist in rebalance')
       hist = 0
       do i = 1, p%n_own
          k = decomp_column(p%x(1, i))
@@ -427,9 +440,13 @@ contains
 
    !> Per-particle scratch arrays as large as the particle store.
    subroutine ensure_scratch()
+      integer :: ist
+      character(len=200) :: emsg
       if (size(scratch1) >= size(p%rho)) return
       deallocate (scratch1, scratch2)
-      allocate (scratch1(size(p%rho)), scratch2(size(p%rho)))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (scratch1(size(p%rho)), scratch2(size(p%rho)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'scratch1, scratch2 in ensure_scratch')
    end subroutine ensure_scratch
 
    logical function finished()
@@ -443,8 +460,11 @@ contains
       integer :: i, nd, nr, cnt(2)
       real(rp) :: x, y
       logical, allocatable :: grown(:)
+      integer :: ist
+      character(len=200) :: emsg
       if (size(drop) < size(p%rho)) then
-         allocate (grown(size(p%rho)))
+         allocate (grown(size(p%rho)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'grown in remove_particles')
          call move_alloc(grown, drop)
       end if
       nd = 0

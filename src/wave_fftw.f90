@@ -11,7 +11,7 @@ module wave_fftw
    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_double_complex, c_float, c_float_complex, &
                                           c_int32_t, c_ptr, c_funptr, c_intptr_t, c_size_t, c_char
    use kinds, only: rp
-   use errors, only: fatal
+   use errors, only: fatal, alloc_check
    implicit none
    private
    public :: fft_c2r, fft_r2c
@@ -32,9 +32,13 @@ contains
       real(c_double), allocatable :: rout(:)
       type(c_ptr) :: plan
       integer :: n
+      integer :: ist
+      character(len=200) :: emsg
       n = size(x)
       if (size(spec) /= n/2 + 1) call fatal('fft_c2r: half spectrum must have n/2+1 values')
-      allocate (cin(0:n/2), rout(n))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (cin(0:n/2), rout(n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'cin, rout in fft_c2r')
       cin = spec
       plan = fftw_plan_dft_c2r_1d(int(n, c_int), cin, rout, fftw_estimate)
       call fftw_execute_dft_c2r(plan, cin, rout)
@@ -51,9 +55,13 @@ contains
       real(c_double), allocatable :: rin(:)
       type(c_ptr) :: plan
       integer :: n
+      integer :: ist
+      character(len=200) :: emsg
       n = size(x)
       if (size(spec) /= n/2 + 1) call fatal('fft_r2c: half spectrum must have n/2+1 values')
-      allocate (rin(n), cout(0:n/2))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (rin(n), cout(0:n/2), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'rin, cout in fft_r2c')
       rin = x
       plan = fftw_plan_dft_r2c_1d(int(n, c_int), rin, cout, fftw_estimate)
       call fftw_execute_dft_r2c(plan, rin, cout)

@@ -6,7 +6,7 @@ module wave_signal
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use kinds, only: rp
    use constants, only: msg_len, path_len
-   use errors, only: input_error
+   use errors, only: input_error, alloc_check
    use input_check, only: int_str, real_str
    implicit none
    private
@@ -115,10 +115,14 @@ contains
       character(len=msg_len) :: msg
       real(rp) :: v(2)
       real(rp), allocatable :: tt(:), xx(:)
+      integer :: ist
+      character(len=200) :: emsg
 
       open (newunit=u, file=file, status='old', action='read', iostat=ios, iomsg=msg)
       if (ios /= 0) call fail('cannot open the file: '//trim(msg))
-      allocate (tt(1024), xx(1024))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (tt(1024), xx(1024), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'tt, xx in signal_read')
       n = 0
       line = 0
       do

@@ -6,7 +6,7 @@ module wave_spectrum
    use, intrinsic :: iso_fortran_env, only: int64
    use kinds, only: rp
    use constants, only: pi
-   use errors, only: fatal
+   use errors, only: fatal, alloc_check
    use input_check, only: lower, real_str
    use wave_theory, only: wave_number, piston_transfer, flap_transfer
    use wave_fftw, only: fft_c2r, fft_r2c
@@ -88,6 +88,8 @@ contains
       type(rng_t) :: rng
       integer :: n, i, j
       logical :: piston
+      integer :: ist
+      character(len=200) :: emsg
 
       flo = 0.5_rp
       fhi = 3.0_rp
@@ -106,7 +108,9 @@ contains
 
       ! x(j) = sum_k c_k exp(2 pi i jk/n) + c.c. with c_k = a/2 e^{i phi} gives a cos(w t + phi);
       ! sin(w t + phi) = cos(w t + phi - pi/2) multiplies c_k by -i
-      allocate (spec_eta(0:n/2), spec_x(0:n/2))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (spec_eta(0:n/2), spec_x(0:n/2), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'spec_eta, spec_x in jonswap_paddle_signal')
       spec_eta = (0.0_rp, 0.0_rp)
       spec_x = (0.0_rp, 0.0_rp)
       call rng_seed(rng, seed)
@@ -116,7 +120,9 @@ contains
          spec_eta(i) = 0.5_rp*amp(i)*cmplx(cos(phi), sin(phi), rp)
          spec_x(i) = 0.5_rp*amp(i)/tra(i)*cmplx(sin(phi), -cos(phi), rp)
       end do
-      allocate (t(n), x(n), eta(n))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (t(n), x(n), eta(n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 't, x, eta in jonswap_paddle_signal')
       call fft_c2r(spec_eta, eta)
       call fft_c2r(spec_x, x)
       t = [((j - 1)*dt, j=1, n)]
@@ -155,7 +161,14 @@ contains
       real(rp), allocatable, intent(out) :: amp(:), tra(:)
       real(rp) :: f, kd
       integer :: i
-      allocate (amp(n/2 - 1), tra(n/2 - 1))
+      integer :: ist
+      character(len=200) :: emsg
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (amp(n/2 - 1), tra(n/2 - 1), stat=ist, errmsg=emsg)
+      if (ist /= 0) then  ! error stop: the compiler cannot know alloc_check stops
+         call alloc_check(ist, emsg, 'amp, tra in component_amplitudes')
+         error stop
+      end if
       amp = 0.0_rp
       tra = 1.0_rp
       do i = 1, n/2 - 1
@@ -187,9 +200,13 @@ contains
       complex(rp), allocatable :: c(:)
       real(rp) :: df
       integer :: n, k
+      integer :: ist
+      character(len=200) :: emsg
       n = size(eta)
       if (n < 2) call fatal('signal_periodogram: need at least 2 samples')
-      allocate (c(0:n/2), f(n/2), s(n/2))
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (c(0:n/2), f(n/2), s(n/2), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'c, f, s in signal_periodogram')
       call fft_r2c(eta, c)
       df = 1.0_rp/(n*dt)
       do k = 1, n/2
@@ -219,11 +236,14 @@ contains
       real(rp) :: fpk
       real(rp), allocatable :: f(:), s(:), sm(:)
       integer :: h, k, m
+      integer :: ist
+      character(len=200) :: emsg
       call signal_periodogram(eta, dt, f, s)
       h = 0
       if (present(nsmooth)) h = max(0, nsmooth/2)
       m = size(s)
-      allocate (sm(m))
+      allocate (sm(m), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'sm in signal_peak_frequency')
       do k = 1, m
          sm(k) = sum(s(max(1, k - h):min(m, k + h)))/(min(m, k + h) - max(1, k - h) + 1)
       end do
