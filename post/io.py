@@ -48,7 +48,9 @@ class Snapshot:
 
     Vector fields have shape ``(N, 2)``, scalar fields shape ``(N,)``. ``gravity`` is
     kept as stored (a scalar or a vector, possibly signed); :attr:`g` is its magnitude.
-    ``attrs`` holds every root attribute as read, including any not listed here.
+    ``attrs`` holds every root attribute as read, including any not listed here, and
+    ``datasets`` every other dataset as stored (``body_pose``: x, y, angle of each body,
+    ``body_outline``: the outline vertices of the bodies, ...; doc/output.md).
     """
 
     path: Path
@@ -72,6 +74,7 @@ class Snapshot:
     case_name: str
     case_nml: str
     attrs: dict[str, Any] = field(default_factory=dict, repr=False)
+    datasets: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
     @property
     def fluid(self) -> np.ndarray:
@@ -140,6 +143,7 @@ def read_snapshot(path: str | Path) -> Snapshot:
             for name in ("position", "velocity", "density", "pressure", "mass", "kind", "body", "id")
         }
         attrs = {key: f.attrs[key] for key in f.attrs}
+        others = {name: f[name][()] for name in f if name not in data and isinstance(f[name], h5py.Dataset)}
     for name in ("position", "velocity"):
         data[name] = _vectors(data[name], name)
     for name in ("density", "pressure", "mass"):
@@ -166,6 +170,7 @@ def read_snapshot(path: str | Path) -> Snapshot:
         case_name=_decode(attrs.get("case_name", "")),
         case_nml=_decode(attrs.get("case_nml", "")),
         attrs=attrs,
+        datasets=others,
         **data,
     )
 

@@ -1,44 +1,87 @@
 !> Prescribed motion of moving boundaries (dynamic boundary particles whose
 !> positions and velocities are a function of time): oscillating walls and
-!> the wavemaker paddle.
+!> the wavemaker paddle. walls_init turns the geometry objects of the input
+!> into the motions the step needs, so that the step never sees the input.
 module bc_motion
    use kinds, only: rp
    use constants, only: pi, kind_moving
    use input_geometry, only: geom_object
    use particles, only: particles_t
-   use wave_paddle, only: paddle_motion, paddle_place, paddle_is_flap
+   use wave_paddle, only: paddle_t, paddle_motion, paddle_place
+   use options, only: wall_fixed, wall_oscillate, wall_wavemaker
+   use errors, only: fatal, alloc_check
+   use input_check, only: int_str
    implicit none
    private
-   public :: motion_apply
+   public :: wall_motion_t, walls_t, walls_init, motion_apply
+
+   !> The motion of one geometry object (a wall, or the paddle).
+   type :: wall_motion_t
+      integer :: motion = wall_fixed        !< wall_fixed, wall_oscillate or wall_wavemaker (options)
+      real(rp) :: amplitude(2) = 0.0_rp     !< oscillate: amplitude of the displacement [m]
+      real(rp) :: period = 1.0_rp           !< oscillate: period [s]
+      real(rp) :: hinge(2) = 0.0_rp         !< wavemaker: bottom of the paddle face [m]
+      real(rp) :: hinge_depth = 0.0_rp      !< wavemaker: still-water depth above the hinge [m]
+   end type wall_motion_t
+
+   !> Everything that moves boundary particles on a law of time: one motion
+   !> per geometry object (particle%body of a wall particle indexes it) and
+   !> the paddle's law.
+   type :: walls_t
+      logical :: moving = .false.           !< some particle moves on a law of time
+      type(wall_motion_t), allocatable :: obj(:)
+      type(paddle_t) :: paddle
+   end type walls_t
 
 contains
 
-   !> Set position and velocity of every moving particle at time t.
-   subroutine motion_apply(objs, p, t)
+   !> The walls' motions from the geometry objects of the case and the
+   !> paddle paddle_init prepared; moving: whether any particle moves.
+   subroutine walls_init(objs, paddle, moving, walls)
       type(geom_object), intent(in) :: objs(:)
+      type(paddle_t), intent(in) :: paddle
+      logical, intent(in) :: moving
+      type(walls_t), intent(out) :: walls
+      integer :: k, ist
+      character(len=200) :: emsg
+      allocate (walls%obj(size(objs)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'walls%obj in walls_init')
+      do k = 1, size(objs)
+         walls%obj(k)%motion = objs(k)%motion_id
+         walls%obj(k)%amplitude = objs(k)%amplitude
+         walls%obj(k)%period = objs(k)%period
+         walls%obj(k)%hinge = [objs(k)%box(2), objs(k)%box(3)]
+         walls%obj(k)%hinge_depth = objs(k)%hinge_depth
+      end do
+      walls%paddle = paddle
+      walls%moving = moving
+   end subroutine walls_init
+
+   !> Set position and velocity of every moving particle at time t.
+   subroutine motion_apply(walls, p, t)
+      type(walls_t), intent(in) :: walls
       type(particles_t), intent(inout) :: p
       real(rp), intent(in) :: t
       integer :: i, b
-      real(rp) :: w, xf, uf, hinge(2), depth
-      logical :: flap
-      call paddle_motion(t, xf, uf)
-      flap = paddle_is_flap()
+      real(rp) :: w, xf, uf
+      call paddle_motion(walls%paddle, t, xf, uf)
       do i = 1, p%n
          if (p%kind(i) /= kind_moving) cycle
          b = p%body(i)
-         if (b > size(objs)) cycle            ! a prescribed body: moved by body_dynamics
-         select case (objs(b)%motion)
-         case ('oscillate')
-            w = 2.0_rp*pi/objs(b)%period
-            p%x(:, i) = p%xb(:, i) + objs(b)%amplitude*sin(w*t)
-            p%v(:, i) = objs(b)%amplitude*w*cos(w*t)
-         case ('wavemaker')
-            ! the hinge is the bottom of the paddle face; depth: hinge to still water
-            hinge = [objs(b)%box(2), objs(b)%box(3)]
-            depth = objs(b)%hinge_depth
-            call paddle_place(flap, p%xb(:, i), xf, uf, hinge, depth, p%x(:, i), p%v(:, i))
-         case default  ! 'fixed': nothing to move
-         end select
+         if (b > size(walls%obj)) cycle            ! a prescribed body: moved by body_dynamics
+         associate (m => walls%obj(b))
+            select case (m%motion)
+            case (wall_oscillate)
+               w = 2.0_rp*pi/m%period
+               p%x(:, i) = p%xb(:, i) + m%amplitude*sin(w*t)
+               p%v(:, i) = m%amplitude*w*cos(w*t)
+            case (wall_wavemaker)
+               call paddle_place(walls%paddle%flap, p%xb(:, i), xf, uf, m%hinge, m%hinge_depth, p%x(:, i), p%v(:, i))
+            case (wall_fixed)    ! nothing to move
+            case default
+               call fatal('motion_apply: unknown motion '//int_str(m%motion))
+            end select
+         end associate
       end do
    end subroutine motion_apply
 end module bc_motion

@@ -6,15 +6,17 @@ module body_dynamics
    use kinds, only: rp
    use constants, only: kind_floating, kind_fixed, kind_moving, pi
    use particles, only: particles_t
-   use comm, only: comm_size, comm_sum
+   use options, only: motion_floating, motion_prescribed
    implicit none
    private
-   public :: body_t, motion_floating, motion_fixed, motion_prescribed, bodies_place, bodies_fluid_forces, &
+   public :: body_t, bodies_place, bodies_fluid_forces, &
              bodies_damping_reset, bodies_damping_add, &
              bodies_save, bodies_predict, bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, &
-             bodies_accel2, body_of, bodies_energy, bodies_sum_ranks, bodies_prescribe
+             bodies_accel2, body_of, bodies_energy, bodies_pack_sums, bodies_unpack_sums, bodies_prescribe
 
-   integer, parameter :: motion_floating = 1, motion_fixed = 2, motion_prescribed = 3
+
+   !> forces and torques of a body summed over the ranks: f_fluid, t_fluid, f_normal, t_normal, f_fric, t_fric
+   integer, parameter :: sums_per_body = 9
 
    type :: body_t
       integer :: motion = motion_floating
@@ -51,7 +53,6 @@ module body_dynamics
 
    !> damping matrix of the velocity-proportional contact forces on the
    !> floating bodies' velocities (u, v, omega of body 1, then body 2, ...)
-   real(rp), allocatable :: cglob(:, :)
 
 contains
 
@@ -107,37 +108,44 @@ contains
       end do
    end subroutine bodies_fluid_forces
 
-   !> Forces, torques and contact coefficients of every body summed over the
-   !> ranks, each of which summed its own particles and pairs: one reduction
-   !> of one packed array per force evaluation.
-   subroutine bodies_sum_ranks(bodies)
-      type(body_t), intent(inout) :: bodies(:)
-      integer, parameter :: m = 9
-      real(rp) :: buf(m*size(bodies))
-      real(rp), allocatable :: cbuf(:)
-      integer :: b, k
-      if (comm_size() == 1) return
+   !> The forces and torques of every body and the contact damping matrix
+   !> as one array, for the sum over the ranks the step makes (each rank
+   !> summed its own particles and pairs): bodies_unpack_sums takes it back.
+   subroutine bodies_pack_sums(bodies, damp, buf)
+      type(body_t), intent(in) :: bodies(:)
+      real(rp), allocatable, intent(in) :: damp(:, :)
+      real(rp), allocatable, intent(out) :: buf(:)
+      integer :: b, k, nd, ist
+      character(len=200) :: emsg
+      nd = 0
+      if (allocated(damp)) nd = size(damp)
+      allocate (buf(sums_per_body*size(bodies) + nd), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the sums of the bodies in bodies_pack_sums')
       do b = 1, size(bodies)
-         k = (b - 1)*m
+         k = (b - 1)*sums_per_body
          associate (x => bodies(b))
-            buf(k + 1:k + m) = [x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric]
+            buf(k + 1:k + sums_per_body) = [x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric]
          end associate
       end do
-      call comm_sum(buf)
-      if (allocated(cglob)) then
-         cbuf = reshape(cglob, [size(cglob)])
-         call comm_sum(cbuf)
-         cglob = reshape(cbuf, shape(cglob))
-      end if
+      if (nd > 0) buf(sums_per_body*size(bodies) + 1:) = reshape(damp, [nd])
+   end subroutine bodies_pack_sums
+
+   !> The forces, torques and damping matrix from the array of bodies_pack_sums.
+   subroutine bodies_unpack_sums(buf, bodies, damp)
+      real(rp), intent(in) :: buf(:)
+      type(body_t), intent(inout) :: bodies(:)
+      real(rp), allocatable, intent(inout) :: damp(:, :)
+      integer :: b, k
       do b = 1, size(bodies)
-         k = (b - 1)*m
+         k = (b - 1)*sums_per_body
          associate (x => bodies(b))
             x%f_fluid = buf(k + 1:k + 2); x%t_fluid = buf(k + 3)
             x%f_normal = buf(k + 4:k + 5); x%t_normal = buf(k + 6)
             x%f_fric = buf(k + 7:k + 8); x%t_fric = buf(k + 9)
          end associate
       end do
-   end subroutine bodies_sum_ranks
+      if (allocated(damp)) damp = reshape(buf(sums_per_body*size(bodies) + 1:), shape(damp))
+   end subroutine bodies_unpack_sums
 
    !> Linear and angular acceleration of a body from the forces of the last evaluation.
    pure subroutine accel(b, a, alpha)
@@ -150,19 +158,21 @@ contains
       alpha = (b%t_fluid + b%t_normal + b%t_fric)/b%inertia
    end subroutine accel
 
-   !> Forget the damping matrix of the last evaluation (nb bodies).
-   subroutine bodies_damping_reset(nb)
+   !> Forget the damping matrix of the last evaluation (nb bodies): damp, of
+   !> size 3 nb x 3 nb (u, v, omega of each body), zero.
+   subroutine bodies_damping_reset(damp, nb)
+      real(rp), allocatable, intent(inout) :: damp(:, :)
       integer, intent(in) :: nb
       integer :: ist
       character(len=200) :: emsg
-      if (allocated(cglob)) then
-         if (size(cglob, 1) /= 3*nb) deallocate (cglob)
+      if (allocated(damp)) then
+         if (size(damp, 1) /= 3*nb) deallocate (damp)
       end if
-      if (.not. allocated(cglob)) then
-         allocate (cglob(3*nb, 3*nb), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'cglob in bodies_damping_reset')
+      if (.not. allocated(damp)) then
+         allocate (damp(3*nb, 3*nb), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'the contact damping matrix in bodies_damping_reset')
       end if
-      cglob = 0.0_rp
+      damp = 0.0_rp
    end subroutine bodies_damping_reset
 
    !> A velocity-proportional force -c (e . (v_i - v_j)) e between point xi of
@@ -170,7 +180,8 @@ contains
    !> its velocity is given), along the unit vector e. Adds c J^T J to the
    !> damping matrix, J the rates of e . (v_i - v_j) with respect to the
    !> floating bodies' (u, v, omega); the pair's forces stay equal and opposite.
-   subroutine bodies_damping_add(bodies, bi, bj, xi, xj, c, e)
+   subroutine bodies_damping_add(damp, bodies, bi, bj, xi, xj, c, e)
+      real(rp), intent(inout) :: damp(:, :)
       type(body_t), intent(in) :: bodies(:)
       integer, intent(in) :: bi, bj
       real(rp), intent(in) :: xi(2), xj(2), c, e(2)
@@ -186,11 +197,11 @@ contains
       if (fi) ji = rate(bodies(bi), xi)
       if (fj) jj = -rate(bodies(bj), xj)
       do k = 1, 3
-         if (fi) cglob(oi + 1:oi + 3, oi + k) = cglob(oi + 1:oi + 3, oi + k) + c*ji(k)*ji
-         if (fj) cglob(oj + 1:oj + 3, oj + k) = cglob(oj + 1:oj + 3, oj + k) + c*jj(k)*jj
+         if (fi) damp(oi + 1:oi + 3, oi + k) = damp(oi + 1:oi + 3, oi + k) + c*ji(k)*ji
+         if (fj) damp(oj + 1:oj + 3, oj + k) = damp(oj + 1:oj + 3, oj + k) + c*jj(k)*jj
          if (fi .and. fj) then
-            cglob(oi + 1:oi + 3, oj + k) = cglob(oi + 1:oi + 3, oj + k) + c*jj(k)*ji
-            cglob(oj + 1:oj + 3, oi + k) = cglob(oj + 1:oj + 3, oi + k) + c*ji(k)*jj
+            damp(oi + 1:oi + 3, oj + k) = damp(oi + 1:oi + 3, oj + k) + c*jj(k)*ji
+            damp(oj + 1:oj + 3, oi + k) = damp(oj + 1:oj + 3, oi + k) + c*ji(k)*jj
          end if
       end do
    contains
@@ -214,8 +225,9 @@ contains
    !> kept), exact for any step (stiff friction does not limit the step), and
    !> at rest (q_new = q_eval) the forces are those evaluated. A dense solve:
    !> fine for hundreds of bodies.
-   subroutine implicit_velocities(bodies, v_start, w_start, step, v_new, w_new)
+   subroutine implicit_velocities(bodies, damp, v_start, w_start, step, v_new, w_new)
       type(body_t), intent(in) :: bodies(:)
+      real(rp), allocatable, intent(in) :: damp(:, :)
       real(rp), intent(in) :: v_start(:, :), w_start(:), step
       real(rp), intent(out) :: v_new(:, :), w_new(:)
       real(rp), allocatable :: a(:, :), r(:), q(:)
@@ -231,8 +243,8 @@ contains
          error stop
       end if
       a = 0.0_rp
-      if (allocated(cglob)) then
-         if (size(cglob, 1) == 3*nb) a = step*cglob
+      if (allocated(damp)) then
+         if (size(damp, 1) == 3*nb) a = step*damp
       end if
       do b = 1, nb
          o = 3*(b - 1)
@@ -319,12 +331,13 @@ contains
    end subroutine bodies_save
 
    !> Half a step with the rates at the start (predictor of the two-stage schemes).
-   subroutine bodies_predict(bodies, hdt)
+   subroutine bodies_predict(bodies, damp, hdt)
       type(body_t), intent(inout) :: bodies(:)
+      real(rp), allocatable, intent(in) :: damp(:, :)  !< contact damping (bodies_damping_add)
       real(rp), intent(in) :: hdt
       integer :: b
       real(rp) :: vn(2, size(bodies)), wn(size(bodies))
-      call implicit_velocities(bodies, reshape([(bodies(b)%v, b=1, size(bodies))], [2, size(bodies)]), &
+      call implicit_velocities(bodies, damp, reshape([(bodies(b)%v, b=1, size(bodies))], [2, size(bodies)]), &
                                bodies(:)%omega, hdt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
@@ -336,12 +349,13 @@ contains
    end subroutine bodies_predict
 
    !> Symplectic corrector: v1 = v0 + dt a(1/2), x1 = x(1/2) + dt/2 v1.
-   subroutine bodies_correct_symplectic(bodies, dt)
+   subroutine bodies_correct_symplectic(bodies, damp, dt)
       type(body_t), intent(inout) :: bodies(:)
+      real(rp), allocatable, intent(in) :: damp(:, :)  !< contact damping (bodies_damping_add)
       real(rp), intent(in) :: dt
       integer :: b
       real(rp) :: vn(2, size(bodies)), wn(size(bodies))
-      call implicit_velocities(bodies, reshape([(bodies(b)%v0, b=1, size(bodies))], [2, size(bodies)]), &
+      call implicit_velocities(bodies, damp, reshape([(bodies(b)%v0, b=1, size(bodies))], [2, size(bodies)]), &
                                bodies(:)%omega0, dt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
@@ -354,12 +368,13 @@ contains
 
    !> Predictor-corrector: corrected half step from the start with the
    !> mid-step rates, then extrapolated to the full step.
-   subroutine bodies_correct_pc(bodies, dt)
+   subroutine bodies_correct_pc(bodies, damp, dt)
       type(body_t), intent(inout) :: bodies(:)
+      real(rp), allocatable, intent(in) :: damp(:, :)  !< contact damping (bodies_damping_add)
       real(rp), intent(in) :: dt
       integer :: b
       real(rp) :: vh(2, size(bodies)), wh(size(bodies))
-      call implicit_velocities(bodies, reshape([(bodies(b)%v0, b=1, size(bodies))], [2, size(bodies)]), &
+      call implicit_velocities(bodies, damp, reshape([(bodies(b)%v0, b=1, size(bodies))], [2, size(bodies)]), &
                                bodies(:)%omega0, 0.5_rp*dt, vh, wh)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
@@ -372,12 +387,13 @@ contains
 
    !> Verlet step of the bodies: x1 = x0 + dt v0 + dt^2/2 a0, v1 = v0 + dt a0
    !> (exact under a constant force, whatever the step sizes).
-   subroutine bodies_verlet(bodies, dt)
+   subroutine bodies_verlet(bodies, damp, dt)
       type(body_t), intent(inout) :: bodies(:)
+      real(rp), allocatable, intent(in) :: damp(:, :)  !< contact damping (bodies_damping_add)
       real(rp), intent(in) :: dt
       integer :: b
       real(rp) :: a(2), alpha, vn(2, size(bodies)), wn(size(bodies))
-      call implicit_velocities(bodies, reshape([(bodies(b)%v, b=1, size(bodies))], [2, size(bodies)]), &
+      call implicit_velocities(bodies, damp, reshape([(bodies(b)%v, b=1, size(bodies))], [2, size(bodies)]), &
                                bodies(:)%omega, dt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle

@@ -1,10 +1,12 @@
 !> Rigid-body shapes: outline, mass properties from the geometry, and the
 !> boundary particles (hollow shells of `layers` rows along the outline).
 module body_shapes
-   use errors, only: alloc_check
+   use errors, only: alloc_check, fatal
+   use input_check, only: int_str
    use kinds, only: rp
    use constants, only: pi
    use input_body, only: body_cfg
+   use options, only: shape_circle, shape_box, shape_wedge, shape_polygon
    implicit none
    private
    public :: body_outline, body_mass_properties, body_particles, circle_sides
@@ -28,21 +30,21 @@ contains
       integer :: ist
       character(len=200) :: emsg
       a = c%angle*pi/180.0_rp
-      select case (trim(c%shape))
-      case ('circle')
+      select case (c%shape_id)
+      case (shape_circle)
          allocate (v(2, circle_sides), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'v in body_outline')
          do k = 1, circle_sides
             v(:, k) = [c%x, c%y] + c%radius*[cos(2*pi*(k - 1)/circle_sides), sin(2*pi*(k - 1)/circle_sides)]
          end do
-      case ('box')
+      case (shape_box)
          allocate (v(2, 4), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'v in body_outline')
          v = 0.5_rp*reshape([-c%width, -c%height, c%width, -c%height, c%width, c%height, -c%width, c%height], [2, 4])
          v = matmul(rot(a), v)
          v(1, :) = v(1, :) + c%x
          v(2, :) = v(2, :) + c%y
-      case default
+      case (shape_wedge, shape_polygon)
          allocate (v(2, c%nvert), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'v in body_outline')
          v(1, :) = c%vx(1:c%nvert)
@@ -55,6 +57,8 @@ contains
          do k = 1, c%nvert
             v(:, k) = cen + matmul(rot(a), v(:, k) - cen)
          end do
+      case default
+         call fatal('body_outline: unknown shape '//int_str(c%shape_id))
       end select
    end function body_outline
 
@@ -82,7 +86,7 @@ contains
       type(body_cfg), intent(in) :: c
       real(rp), intent(out) :: mass, cen(2), inertia
       real(rp) :: area, j0, rho
-      if (c%shape == 'circle') then
+      if (c%shape_id == shape_circle) then
          area = pi*c%radius**2
          cen = [c%x, c%y]
          j0 = 0.5_rp*area*c%radius**2
@@ -134,7 +138,7 @@ contains
       allocate (xb(2, cap), nb(2, cap), surf(cap), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'xb, nb, surf in body_particles')
       n = 0
-      if (c%shape == 'circle') then
+      if (c%shape_id == shape_circle) then
          ang = c%angle*pi/180.0_rp
          do l = 1, layers
             r = c%radius - (l - 0.5_rp)*dp

@@ -17,7 +17,7 @@
 module comm_halo
    use kinds, only: rp
    use particles, only: particles_t, particles_grow
-   use decomp, only: decomp_owner
+   use decomp, only: decomp_t, decomp_owner
    use comm, only: comm_rank, comm_size, comm_sendrecv, comm_alltoall, comm_alltoallv, comm_no_rank
    use timers, only: timer_start, timer_stop, t_comm
    use errors, only: fatal, alloc_check
@@ -108,7 +108,8 @@ contains
    !> Particles that crossed a slab edge go to the neighbour that owns them
    !> now: marked in drop here (the sort removes them), appended on the
    !> neighbour, those from the left first. The halo is forgotten first.
-   subroutine comm_halo_migrate(p, drop)
+   subroutine comm_halo_migrate(dc, p, drop)
+      type(decomp_t), intent(in) :: dc
       type(particles_t), intent(inout) :: p
       logical, allocatable, intent(inout) :: drop(:)
       integer :: i, d, me, nl, nr, rl, rr, k
@@ -125,7 +126,7 @@ contains
       nr = 0
       do i = 1, p%n
          if (drop(i)) cycle
-         d = decomp_owner(p%x(1, i))
+         d = decomp_owner(dc, p%x(1, i))
          if (d == me) cycle
          if (d == me - 1) then
             call ensure_keep(sbuf, (nl + 1)*nfull)
@@ -292,7 +293,8 @@ contains
    !> After the slab edges moved: every owned particle to the rank that owns
    !> it now. Those that stay keep their order; the arrivals follow in the
    !> order of their senders' ranks. The halo is forgotten.
-   subroutine comm_halo_redistribute(p)
+   subroutine comm_halo_redistribute(dc, p)
+      type(decomp_t), intent(in) :: dc
       type(particles_t), intent(inout) :: p
       integer :: i, d, me, nr, k, m, nkeep
       integer, allocatable :: scount(:), rcount(:), sdispl(:), rdispl(:), dest(:), fill(:)
@@ -314,7 +316,7 @@ contains
       end if
       scount = 0
       do i = 1, p%n
-         dest(i) = decomp_owner(p%x(1, i))
+         dest(i) = decomp_owner(dc, p%x(1, i))
          if (dest(i) /= me) scount(dest(i)) = scount(dest(i)) + 1
       end do
       call comm_alltoall(scount, rcount)

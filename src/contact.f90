@@ -5,17 +5,18 @@
 !> Every pair force is applied equal and opposite. doc/contact.md says how
 !> each symbol is computed.
 module contact
-   use errors, only: alloc_check
+   use errors, only: alloc_check, fatal
+   use input_check, only: int_str
    use kinds, only: rp
    use constants, only: pi, kind_fluid, kind_floating
    use params, only: params_t
    use grid, only: grid_t, grid_ranges
    use particles, only: particles_t
-   use body_dynamics, only: body_t, motion_floating, motion_fixed, body_of, bodies_damping_reset, bodies_damping_add
+   use body_dynamics, only: body_t, body_of, bodies_damping_reset, bodies_damping_add
    use input_body, only: contact_cfg
    use kernel, only: kernel_gradw
-   use options, only: option_index, contact_names, model_dynamic, model_repulsive, model_noncohesive, &
-                      model_spring, model_hertz
+   use options, only: model_dynamic, model_repulsive, model_noncohesive, &
+                      model_spring, model_hertz, motion_floating, motion_fixed
    use comm, only: comm_size, comm_allgatherv
    implicit none
    private
@@ -38,6 +39,9 @@ module contact
       ! Hertz: restitution e(alpha) of the damped Hertz spring on a grid of the
       ! damping number alpha (tsuji_table), inverted by interpolation
       real(rp), allocatable :: tab_alpha(:), tab_e(:)
+      !> damping of the velocity-proportional contact forces between the floating
+      !> bodies, taken implicitly in their step (body_dynamics: implicit_velocities)
+      real(rp), allocatable :: damp(:, :)
       logical, allocatable :: cand(:)
       ! pairs of the last sweep (Eq. 2-6 models), gathered before the forces
       ! are applied: the slip of the friction is taken at the contact centre
@@ -63,14 +67,13 @@ module contact
 
 contains
 
-   subroutine contact_init(file, cfg, prm, coef, ct)
-      character(len=*), intent(in) :: file   !< the case file, for the message of a bad model name
+   subroutine contact_init(cfg, prm, coef, ct)
       type(contact_cfg), intent(in) :: cfg
       type(params_t), intent(in) :: prm
       real(rp), intent(in) :: coef
       type(contact_t), intent(out) :: ct
       real(rp) :: b
-      ct%model = option_index(file, 'contact', 'model', cfg%model, contact_names)
+      ct%model = cfg%model_id
       b = cfg%b
       if (b <= 0.0_rp) b = coef
       ct%k10b2 = (10.0_rp/b)**2
@@ -178,7 +181,7 @@ contains
          bodies(k)%f_normal = 0.0_rp; bodies(k)%t_normal = 0.0_rp
          bodies(k)%f_fric = 0.0_rp; bodies(k)%t_fric = 0.0_rp
       end do
-      call bodies_damping_reset(size(bodies))
+      call bodies_damping_reset(ct%damp, size(bodies))
       ct%max_penetration = 0.0_rp
       ct%dt_limit = huge(1.0_rp)
       ct%dt_motion = huge(1.0_rp)
@@ -230,7 +233,7 @@ contains
       subroutine viscous(i, j, bi, bj, c, e)
          integer, intent(in) :: i, j, bi, bj
          real(rp), intent(in) :: c, e(2)
-         call bodies_damping_add(bodies, bi, bj, p%x(:, i), p%x(:, j), c, e)
+         call bodies_damping_add(ct%damp, bodies, bi, bj, p%x(:, i), p%x(:, j), c, e)
       end subroutine viscous
 
       subroutine pair(i, j, bi, bj, d, r2)
@@ -243,7 +246,8 @@ contains
             call pair_hertz(i, j, bi, bj, d, r2)
          case (model_repulsive, model_noncohesive, model_spring)
             call pair_eq(i, j, bi, bj, d)
-         case default  ! none: contact_init sets one of the five (options)
+         case default
+            call fatal('contact: no pair force for model '//int_str(ct%model))
          end select
       end subroutine pair
 
@@ -776,6 +780,7 @@ contains
       type(contact_t), intent(in) :: ct
       real(rp), intent(in) :: ul, h
       a = 0.0_rp
+      ! allow(missing-default-case): ct%model is one of the five models of options, each a case here
       select case (ct%model)
       case (model_repulsive)                       ! Eq. 4: attractive once u_L > 0.005 c
          if (ul > 0.0_rp) then
@@ -793,7 +798,8 @@ contains
          ! over a rolling contact the damping of the approaching and the
          ! receding particles cancels, so rolling meets no resistance.
          a = ct%k10b2*max(0.005_rp*ct%c**2 - ct%r_f*ct%c*ul, 0.0_rp)/h
-      case default  ! none: the dynamic and Hertz models do not use A
+      case (model_dynamic, model_hertz)            ! these models have no A
+         a = 0.0_rp
       end select
    end function coefficient_a
 

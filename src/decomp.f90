@@ -9,111 +9,116 @@ module decomp
    use grid, only: grid_column
    implicit none
    private
-   public :: decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, decomp_edges, &
-             decomp_lo, decomp_hi
+   public :: decomp_t, decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, decomp_lo, &
+             decomp_hi
 
-   real(rp) :: x0 = 0.0_rp, cs = 1.0_rp
-   integer :: ncol = 1                     !< cell columns of the domain
-   integer :: nr = 1, me = 0
-   integer, allocatable :: edge(:)         !< edge(0:nr): first column of each rank, edge(nr) = ncol
-   integer, allocatable :: owner(:)        !< owner(0:ncol-1): rank of each column
+   !> The slabs of a run: the columns, the ranks and each rank's first column.
+   type :: decomp_t
+      real(rp) :: x0 = 0.0_rp, cs = 1.0_rp   !< left edge and width of the cell columns [m]
+      integer :: ncol = 1                     !< cell columns of the domain
+      integer :: nr = 1, me = 0               !< ranks, and this rank
+      integer, allocatable :: edge(:)         !< edge(0:nr): first column of each rank, edge(nr) = ncol
+      integer, allocatable :: owner(:)        !< owner(0:ncol-1): rank of each column
+   end type decomp_t
 
 contains
 
    !> Columns of side cs from x0, ncol of them, over nranks ranks; the
    !> slabs start equal in width.
-   subroutine decomp_init(xmin, cell, ncolumns, nranks, rank)
+   subroutine decomp_init(d, xmin, cell, ncolumns, nranks, rank)
+      type(decomp_t), intent(out) :: d
       real(rp), intent(in) :: xmin, cell
       integer, intent(in) :: ncolumns, nranks, rank
       integer :: r
       integer :: ist
       character(len=200) :: emsg
-      x0 = xmin
-      cs = cell
-      ncol = ncolumns
-      nr = nranks
-      me = rank
-      if (allocated(edge)) deallocate (edge, owner)
+      d%x0 = xmin
+      d%cs = cell
+      d%ncol = ncolumns
+      d%nr = nranks
+      d%me = rank
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (edge(0:nr), owner(0:ncol - 1), stat=ist, errmsg=emsg)
+      allocate (d%edge(0:d%nr), d%owner(0:d%ncol - 1), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'edge, owner in decomp_init')
-      do r = 0, nr
-         edge(r) = (r*ncol)/nr
+      do r = 0, d%nr
+         d%edge(r) = (r*d%ncol)/d%nr
       end do
-      call set_owner()
+      call set_owner(d)
    end subroutine decomp_init
 
-   subroutine set_owner()
+   subroutine set_owner(d)
+      type(decomp_t), intent(inout) :: d
       integer :: r
-      do r = 0, nr - 1
-         owner(edge(r):edge(r + 1) - 1) = r
+      do r = 0, d%nr - 1
+         d%owner(d%edge(r):d%edge(r + 1) - 1) = r
       end do
    end subroutine set_owner
 
-
    !> First column of this rank's slab (0-based).
-   integer function decomp_lo()
-      decomp_lo = edge(me)
+   pure integer function decomp_lo(d)
+      type(decomp_t), intent(in) :: d
+      decomp_lo = d%edge(d%me)
    end function decomp_lo
 
    !> One past the last column of this rank's slab.
-   integer function decomp_hi()
-      decomp_hi = edge(me + 1)
+   pure integer function decomp_hi(d)
+      type(decomp_t), intent(in) :: d
+      decomp_hi = d%edge(d%me + 1)
    end function decomp_hi
 
-   function decomp_edges() result(e)
-      integer :: e(0:nr)
-      e = edge
-   end function decomp_edges
-
    !> Adopt given edges (a restart on the same number of ranks).
-   subroutine decomp_set_edges(e)
+   subroutine decomp_set_edges(d, e)
+      type(decomp_t), intent(inout) :: d
       integer, intent(in) :: e(0:)
-      edge = e(0:nr)
-      call set_owner()
+      d%edge = e(0:d%nr)
+      call set_owner(d)
    end subroutine decomp_set_edges
 
-   pure integer function decomp_column(x) result(k)
+   pure integer function decomp_column(d, x) result(k)
+      type(decomp_t), intent(in) :: d
       real(rp), intent(in) :: x
-      k = grid_column(x0, cs, ncol, x)
+      k = grid_column(d%x0, d%cs, d%ncol, x)
    end function decomp_column
 
    !> Rank that owns a particle at abscissa x.
-   pure integer function decomp_owner(x) result(r)
+   pure integer function decomp_owner(d, x) result(r)
+      type(decomp_t), intent(in) :: d
       real(rp), intent(in) :: x
-      r = owner(grid_column(x0, cs, ncol, x))
+      r = d%owner(grid_column(d%x0, d%cs, d%ncol, x))
    end function decomp_owner
 
    !> New edges from the particle count of every column (summed over the
    !> ranks): rank r starts at the first column where the running count
    !> reaches r/nranks of the total, each slab at least one column wide.
-   !> Returns whether any edge moved.
-   logical function decomp_balance(count) result(moved)
+   !> moved: whether any edge moved.
+   subroutine decomp_balance(d, count, moved)
+      type(decomp_t), intent(inout) :: d
       integer, intent(in) :: count(0:)
-      integer :: r, k, e(0:nr)
+      logical, intent(out) :: moved
+      integer :: r, k, e(0:d%nr)
       real(rp) :: total, cum, target
-      total = real(sum(count(0:ncol - 1)), rp)
+      total = real(sum(count(0:d%ncol - 1)), rp)
       e(0) = 0
-      e(nr) = ncol
+      e(d%nr) = d%ncol
       k = 0
       cum = 0.0_rp
-      do r = 1, nr - 1
-         target = total*real(r, rp)/real(nr, rp)
+      do r = 1, d%nr - 1
+         target = total*real(r, rp)/real(d%nr, rp)
          ! advance while the column still fits under the target (nearest split)
-         advance: do while (k < ncol - 1)
+         advance: do while (k < d%ncol - 1)
             if (cum + 0.5_rp*count(k) >= target) exit advance
             cum = cum + count(k)
             k = k + 1
          end do advance
          ! each slab at least one column, and room left for the ranks after
-         e(r) = min(max(k, e(r - 1) + 1), ncol - (nr - r))
+         e(r) = min(max(k, e(r - 1) + 1), d%ncol - (d%nr - r))
          if (e(r) /= k) then
             k = e(r)
             cum = real(sum(count(0:k - 1)), rp)
          end if
       end do
-      moved = any(e /= edge)
-      edge = e
-      call set_owner()
-   end function decomp_balance
+      moved = any(e /= d%edge)
+      d%edge = e
+      call set_owner(d)
+   end subroutine decomp_balance
 end module decomp

@@ -7,7 +7,8 @@
 !> model, density diffusion and gradient correction.
 module fluid_forces
    use kinds, only: rp
-   use errors, only: alloc_check
+   use errors, only: alloc_check, fatal
+   use input_check, only: int_str
    use constants, only: kind_fluid
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive
    use grid, only: grid_t, grid_ranges, grid_last_cell
@@ -84,7 +85,8 @@ contains
          case (6); pairs => pairs_l_b1_v1_d1_g1
          case (7); pairs => pairs_l_b1_v2_d1_g1
          case (8); pairs => pairs_l_b2_v2_d0_g0
-         case default  ! none: 0 and 2 need no list
+         case default  ! 0 and 2 need no list: needs_list and this table disagree
+            call fatal('forces_init: no listed pair loop for the models of code '//int_str(code))
          end select
       else
          code = merge(1, 0, prm%kernel == kernel_cubic) + 2*merge(1, 0, prm%diffusion /= diff_none)
@@ -96,7 +98,8 @@ contains
          case (3); pairs => pairs_s_b1_k2_d1
          case (4); pairs => pairs_s_b2_k1
          case (5); pairs => pairs_s_b2_k2
-         case default  ! none: code is 0 .. 5 by construction
+         case default
+            call fatal('forces_init: no stencil pair loop for the models of code '//int_str(code))
          end select
       end if
    end subroutine forces_init

@@ -18,7 +18,7 @@ module grid
    use particles, only: particles_t, particles_permute
    implicit none
    private
-   public :: grid_t, grid_init, grid_columns, grid_sort, grid_cell_of, grid_cell, grid_column, grid_visit_pairs, &
+   public :: grid_t, grid_init, grid_columns, grid_sort, grid_cell, grid_column, grid_visit_pairs, &
              grid_first_column_end, &
              grid_add_halo, grid_ranges, grid_last_cell
 

@@ -20,6 +20,7 @@ module input
    use body_shapes, only: body_outline
    use geom, only: polygons_overlap
    use errors, only: input_error, fatal, alloc_check
+   use options, only: role_solid, role_fluid, wall_wavemaker, wave_regular, wave_file, paddle_piston, gauge_pressure
    implicit none
    private
    public :: case_cfg, read_case, write_case
@@ -79,10 +80,10 @@ contains
          end associate
       end do
       do i = 1, size(c%objs)
-         if (c%objs(i)%role /= 'fluid') cycle
+         if (c%objs(i)%role_id /= role_fluid) cycle
          others: do k = 1, size(c%objs)
             if (k == i) cycle others
-            if (c%objs(k)%role == 'fluid' .and. k < i) cycle others
+            if (c%objs(k)%role_id == role_fluid .and. k < i) cycle others
             if (polygons_overlap(c%objs(i)%v, c%objs(k)%v, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
                gi = obj_name(c%objs(i))
                gk = obj_name(c%objs(k))
@@ -161,8 +162,8 @@ contains
             if (c%objs(ip)%box(4) > d%ymax) call input_error(c%file, g, 'top', 'the paddle reaches y = '// &
                real_str(c%objs(ip)%box(4))//' m, above the &domain ymax = '//real_str(d%ymax)// &
                ' m (top defaults to 1.5 depth above the bed)')
-            if (wm%wave /= 'file') then
-               if (wm%wave == 'regular') then
+            if (wm%wave_id /= wave_file) then
+               if (wm%wave_id == wave_regular) then
                   per = wm%period
                   hh = wm%height
                else
@@ -172,18 +173,18 @@ contains
                k = wave_number(2.0_rp*pi/per, wm%depth, c%fluid%gravity)
                kd = k*wm%depth
                hmax = miche_limit(k, wm%depth)
-               if (hh > hmax) call input_error(c%file, g, merge('height', 'hs    ', wm%wave == 'regular'), &
+               if (hh > hmax) call input_error(c%file, g, merge('height', 'hs    ', wm%wave_id == wave_regular), &
                   'the wave breaks at the paddle: H/L = '//real_str(hh*k/(2.0_rp*pi))//' above the limit '// &
                   real_str(hmax*k/(2.0_rp*pi))//' (0.142 tanh kd, kd = '//real_str(kd)//'): H must be below '// &
                   real_str(hmax)//' m at this period and depth')
-               if (wm%paddle == 'piston') then
+               if (wm%paddle_id == paddle_piston) then
                   stroke = hh/piston_transfer(kd)
                else
                   stroke = hh/flap_transfer(kd)
                end if
                if (wm%second_order) stroke = stroke + 2.0_rp*abs(piston_second_order(hh, kd, wm%depth))
                if (stroke > wm%max_stroke) call input_error(c%file, g, merge('height', 'hs    ', &
-                  wm%wave == 'regular'), 'the paddle stroke '//real_str(stroke)//' m (peak to peak) exceeds '// &
+                  wm%wave_id == wave_regular), 'the paddle stroke '//real_str(stroke)//' m (peak to peak) exceeds '// &
                   'max_stroke = '//real_str(wm%max_stroke)//' m: lower the height or shorten the period')
             end if
          end if
@@ -191,7 +192,7 @@ contains
             gi = 'gauge #'//int_str(i)
             if (c%gauges(i)%x < d%xmin .or. c%gauges(i)%x > d%xmax) call input_error(c%file, gi, 'x', &
                'the gauge is outside the &domain: x must be in ['//real_str(d%xmin)//', '//real_str(d%xmax)//'] m')
-            if (c%gauges(i)%kind == 'pressure' .and. (c%gauges(i)%y < d%ymin .or. c%gauges(i)%y > d%ymax)) then
+            if (c%gauges(i)%kind_id == gauge_pressure .and. (c%gauges(i)%y < d%ymin .or. c%gauges(i)%y > d%ymax)) then
                call input_error(c%file, gi, 'y', 'the gauge is outside the &domain: y must be in ['// &
                                 real_str(d%ymin)//', '//real_str(d%ymax)//'] m')
             end if
@@ -212,7 +213,7 @@ contains
       integer :: k
       ip = 0
       do k = 1, size(objs)
-         if (objs(k)%motion == 'wavemaker') ip = k
+         if (objs(k)%motion_id == wall_wavemaker) ip = k
       end do
    end function paddle_index
 
@@ -236,7 +237,7 @@ contains
             call input_error(c%file, 'body #'//trim(bi), '', 'the body reaches outside the &domain')
          end if
          walls: do k = 1, size(c%objs)
-            if (c%objs(k)%role /= 'solid') cycle walls
+            if (c%objs(k)%role_id /= role_solid) cycle walls
             if (polygons_overlap(vi, c%objs(k)%v, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
                call input_error(c%file, 'body #'//trim(bi), '', 'the body overlaps the solid &'// &
                                 obj_name(c%objs(k))//' (bodies may touch walls, not cut into them)')

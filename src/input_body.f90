@@ -3,11 +3,12 @@
 module input_body
    use kinds, only: rp
    use constants, only: name_len, msg_len, pi
-   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, check_choice, group_count, &
+   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, group_count, &
                           int_str, real_str
    use errors, only: input_error, alloc_check
    use geom, only: polygon_area, polygon_self_intersects
-   use options, only: contact_names
+   use options, only: contact_names, model_spring, option_index, shape_names, shape_circle, shape_box, shape_wedge, shape_polygon, &
+                      body_motion_names, motion_floating, motion_prescribed
    implicit none
    private
    public :: body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact, body_max_vert
@@ -16,6 +17,7 @@ module input_body
 
    type :: body_cfg
       character(len=name_len) :: shape = 'box'        !< 'circle' | 'box' | 'wedge' | 'polygon'
+      integer :: shape_id = shape_box                  !< shape as its value in options (shape_*)
       real(rp) :: x = 0.0_rp, y = 0.0_rp               !< centre (circle, box) [m]
       real(rp) :: radius = 0.0_rp                      !< circle radius [m]
       real(rp) :: width = 0.0_rp, height = 0.0_rp      !< box sides [m]
@@ -25,6 +27,7 @@ module input_body
       real(rp) :: density = 0.0_rp                     !< [kg/m3]; or
       real(rp) :: mass = 0.0_rp                        !< [kg/m] (2D: per metre of width)
       character(len=name_len) :: motion = 'floating'   !< 'floating' | 'fixed' | 'prescribed'
+      integer :: motion_id = motion_floating           !< motion as its value in options (motion_*)
       real(rp) :: u = 0.0_rp, v = 0.0_rp               !< initial (or prescribed) velocity [m/s]
       real(rp) :: omega = 0.0_rp                       !< initial (or prescribed) angular velocity [rad/s]
       real(rp) :: amplitude_x = 0.0_rp, amplitude_y = 0.0_rp  !< prescribed oscillation of the centre [m]
@@ -42,6 +45,7 @@ module input_body
    type :: contact_cfg
       character(len=name_len) :: model = 'noncohesive_spring'  !< 'dynamic' | 'repulsive' | 'noncohesive' |
                                                                !< 'noncohesive_spring' | 'hertz'
+      integer :: model_id = model_spring     !< model as its value in options (model_*)
       real(rp) :: r_f = 0.5_rp               !< damping coefficient r_f of Eq. 4-6 [-] (doc/contact.md)
       real(rp) :: b = 0.0_rp                 !< sound coefficient B of Eq. 4-6 (0: &fluid coef) [-]
       real(rp) :: c0 = 0.0_rp                !< reference speed of Eq. 4-6 (0: from the static load, doc/contact.md) [m/s]
@@ -106,16 +110,18 @@ contains
          call from_vars(bodies(k))
          g = 'body #'//int_str(k)
          associate (c => bodies(k))
-            call check_choice(file, g, 'shape', c%shape, [character(len=name_len) :: 'circle', 'box', 'wedge', 'polygon'])
-            call check_choice(file, g, 'motion', c%motion, [character(len=name_len) :: 'floating', 'fixed', 'prescribed'])
-            select case (trim(c%shape))
-            case ('circle')
+            c%shape_id = option_index(file, g, 'shape', c%shape, shape_names)
+            c%shape = shape_names(c%shape_id)
+            c%motion_id = option_index(file, g, 'motion', c%motion, body_motion_names)
+            c%motion = body_motion_names(c%motion_id)
+            select case (c%shape_id)
+            case (shape_circle)
                call check_real(file, g, 'radius', c%radius, 2.0_rp*dp, 1.0e4_rp)
-            case ('box')
+            case (shape_box)
                call check_real(file, g, 'width', c%width, 2.0_rp*dp, 1.0e4_rp)
                call check_real(file, g, 'height', c%height, 2.0_rp*dp, 1.0e4_rp)
-            case default
-               if (c%shape == 'wedge') then
+            case (shape_wedge, shape_polygon)
+               if (c%shape_id == shape_wedge) then
                   call check_int(file, g, 'nvert', c%nvert, 3, 3)
                else
                   call check_int(file, g, 'nvert', c%nvert, 3, body_max_vert)
@@ -128,9 +134,11 @@ contains
                      'the outline has (almost) no area: at least 4 dp^2 is needed')
                   if (polygon_self_intersects(vv)) call input_error(file, g, 'vx, vy', 'the outline crosses itself')
                end block
+            case default
+               call input_error(file, g, 'shape', 'no checks for shape '//trim(c%shape))
             end select
             call check_real(file, g, 'angle', c%angle, -360.0_rp, 360.0_rp)
-            if (c%motion == 'floating' .or. c%mass > 0.0_rp .or. c%density > 0.0_rp) then
+            if (c%motion_id == motion_floating .or. c%mass > 0.0_rp .or. c%density > 0.0_rp) then
                if (c%mass > 0.0_rp) then
                   call check_real(file, g, 'mass', c%mass, 0.0_rp, 1.0e9_rp, lo_open=.true.)
                else
@@ -161,7 +169,7 @@ contains
       real(rp) :: vals(nvar), speed
       integer :: k
       vals = [c%amplitude_x, c%amplitude_y, c%amplitude_angle, c%period, c%phase]
-      if (c%motion /= 'prescribed') then
+      if (c%motion_id /= motion_prescribed) then
          do k = 1, nvar
             ! written so that a NaN is refused too
             if (.not. abs(vals(k)) <= 0.0_rp) then
@@ -221,7 +229,8 @@ contains
       end if
       c%model = model; c%r_f = r_f; c%b = b; c%c0 = c0; c%q0 = q0; c%stick_velocity = stick_velocity
       c%impact = impact; c%barrier = barrier; c%stick_length = stick_length
-      call check_choice(file, 'contact', 'model', c%model, contact_names)
+      c%model_id = option_index(file, 'contact', 'model', c%model, contact_names)
+      c%model = contact_names(c%model_id)
       call check_real(file, 'contact', 'r_f', c%r_f, 0.0_rp, 1.0e3_rp)
       call check_real(file, 'contact', 'b', c%b, 0.0_rp, 100.0_rp)
       call check_real(file, 'contact', 'c0', c%c0, 0.0_rp, 1.0e4_rp)

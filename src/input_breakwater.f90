@@ -4,8 +4,9 @@
 module input_breakwater
    use kinds, only: rp
    use constants, only: name_len, msg_len
-   use input_check, only: open_case, read_failed, check_real, check_int, check_choice, group_count
+   use input_check, only: open_case, read_failed, check_real, check_int, group_count
    use errors, only: input_error
+   use options, only: option_index, placement_names, placement_regular
    implicit none
    private
    public :: breakwater_cfg, armour_cfg, read_breakwater, write_breakwater, read_armour, write_armour
@@ -28,6 +29,7 @@ module input_breakwater
    type :: armour_cfg
       logical :: on = .false.
       character(len=name_len) :: placement = 'regular'   !< 'regular' | 'irregular'
+      integer :: placement_id = placement_regular         !< placement as its value in options (placement_*)
       real(rp) :: dn = 0.02_rp              !< cube side (nominal diameter) [m]
       real(rp) :: density = 2200.0_rp       !< concrete density [kg/m3]
       real(rp) :: porosity = 0.0_rp         !< layer porosity [-] (0: 0.21 regular, 0.25 irregular)
@@ -126,11 +128,12 @@ contains
       c%placement = placement; c%dn = dn; c%density = density; c%porosity = porosity; c%mu = mu
       c%seed = seed; c%max_tilt = max_tilt; c%gap_spread = gap_spread; c%n_units = n_units
       c%threshold = threshold; c%toe_block = toe_block
-      call check_choice(file, g, 'placement', c%placement, [character(len=name_len) :: 'regular', 'irregular'])
+      c%placement_id = option_index(file, g, 'placement', c%placement, placement_names)
+      c%placement = placement_names(c%placement_id)
       call check_real(file, g, 'dn', c%dn, 3.0_rp*dp, 100.0_rp)
       call check_real(file, g, 'density', c%density, 1.0_rp, 1.0e5_rp)
       call check_real(file, g, 'porosity', c%porosity, 0.0_rp, 0.6_rp)
-      if (c%porosity <= 0.0_rp) c%porosity = merge(0.21_rp, 0.25_rp, c%placement == 'regular')
+      if (c%porosity <= 0.0_rp) c%porosity = merge(0.21_rp, 0.25_rp, c%placement_id == placement_regular)
       call check_real(file, g, 'mu', c%mu, 0.0_rp, 10.0_rp)
       call check_int(file, g, 'seed', c%seed, 0, huge(1))
       call check_real(file, g, 'max_tilt', c%max_tilt, 0.0_rp, 30.0_rp)

@@ -10,7 +10,7 @@ module input_check
    implicit none
    private
    public :: open_case, scan_groups, group_count, read_failed, read_failed_open, check_real, check_int, &
-             check_choice, lower, real_str, int_str, approx_str
+             lower, real_str, int_str, approx_str
 
    character(len=*), parameter :: known_groups(*) = [character(len=16) :: &
       'run', 'domain', 'fluid', 'numerics', 'box', 'polygon', 'slope', 'body', 'contact', 'wavemaker', &
@@ -324,22 +324,4 @@ contains
       if (i < lo .or. i > hi) call input_error(file, group, var, 'value '//int_str(i)// &
                                                ' is out of the allowed range ['//int_str(lo)//', '//int_str(hi)//']')
    end subroutine check_int
-
-   !> Stop unless value is one of choices (case-insensitive); returns it lower-cased.
-   subroutine check_choice(file, group, var, value, choices)
-      character(len=*), intent(in) :: file, group, var
-      ! allow(assumed-size-character-intent): value is only lower-cased and left-adjusted in place, so it keeps its length
-      character(len=*), intent(inout) :: value
-      character(len=*), intent(in) :: choices(:)
-      integer :: i
-      character(len=:), allocatable :: list
-      value = lower(adjustl(value))
-      if (any(choices == value)) return
-      list = ''
-      do i = 1, size(choices)
-         list = list//"'"//trim(choices(i))//"'"
-         if (i < size(choices)) list = list//', '
-      end do
-      call input_error(file, group, var, "value '"//trim(value)//"' is not one of "//list)
-   end subroutine check_choice
 end module input_check

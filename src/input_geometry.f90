@@ -3,10 +3,11 @@
 module input_geometry
    use kinds, only: rp
    use constants, only: name_len, msg_len
-   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, check_choice, &
+   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, &
                           group_count, int_str, real_str
-   use errors, only: input_error, alloc_check
+   use errors, only: input_error, alloc_check, fatal
    use geom, only: polygon_area, polygon_self_intersects
+   use options, only: option_index, role_names, role_solid, role_fluid, wall_motion_names, wall_fixed, wall_oscillate
    implicit none
    private
    public :: geom_object, read_geometry, write_geometry, max_vert
@@ -18,6 +19,8 @@ module input_geometry
       integer :: index = 0                          !< 1 for the first group of its name, ...
       character(len=name_len) :: role = 'solid'     !< 'solid' | 'fluid'
       character(len=name_len) :: motion = 'fixed'   !< 'fixed' | 'oscillate' | 'wavemaker'
+      integer :: role_id = role_solid               !< role as its value in options (role_*)
+      integer :: motion_id = wall_fixed             !< motion as its value in options (wall_*)
       logical :: generated = .false.                !< made by &wavemaker or &breakwater, not written back
       real(rp) :: amplitude(2) = 0.0_rp             !< oscillation amplitude [m]
       real(rp) :: period = 1.0_rp                   !< oscillation period [s]
@@ -124,6 +127,7 @@ contains
          objs(n)%group = 'slope'
          objs(n)%index = k
          objs(n)%role = 'solid'
+         objs(n)%role_id = role_solid
          objs(n)%line = [x0, y0, x1, y1]
          objs(n)%layers = layers
          objs(n)%nv = 4
@@ -145,10 +149,13 @@ contains
          o%motion = motion
          o%amplitude = amplitude
          o%period = period
-         call check_choice(file, gname, 'role', o%role, [character(len=name_len) :: 'solid', 'fluid'])
-         call check_choice(file, gname, 'motion', o%motion, [character(len=name_len) :: 'fixed', 'oscillate'])
-         if (o%motion == 'oscillate') then
-            if (o%role == 'fluid') call input_error(file, gname, 'motion', "only a solid can move (role = 'solid')")
+         o%role_id = option_index(file, gname, 'role', o%role, role_names)
+         o%role = role_names(o%role_id)
+         ! 'wavemaker' is the flume builder's, not a case file's
+         o%motion_id = option_index(file, gname, 'motion', o%motion, wall_motion_names(wall_fixed:wall_oscillate))
+         o%motion = wall_motion_names(o%motion_id)
+         if (o%motion_id == wall_oscillate) then
+            if (o%role_id == role_fluid) call input_error(file, gname, 'motion', "only a solid can move (role = 'solid')")
             call check_real(file, gname, 'period', o%period, 0.0_rp, 1.0e6_rp, lo_open=.true.)
          end if
       end subroutine set_common
@@ -176,7 +183,8 @@ contains
             x0 = objs(k)%line(1); y0 = objs(k)%line(2); x1 = objs(k)%line(3); y1 = objs(k)%line(4)
             layers = objs(k)%layers
             write (u, nml=slope)
-         case default  ! none: box, polygon and slope are the only groups
+         case default
+            call fatal('write_geometry: an object of group '//trim(objs(k)%group)//' is not from the case file')
          end select
       end do
    end subroutine write_geometry

@@ -2,8 +2,10 @@
 module input_numerics
    use kinds, only: rp
    use constants, only: name_len, msg_len
-   use input_check, only: open_case, read_failed, check_real, check_int, check_choice, group_count
-   use options, only: kernel_names, integ_names, visc_names, bnd_names, diff_names, kgc_names
+   use input_check, only: open_case, read_failed, check_real, check_int, group_count
+   use options, only: option_index, kernel_names, integ_names, visc_names, bnd_names, diff_names, kgc_names, &
+                      kernel_wendland, integ_symplectic, visc_artificial, bnd_dynamic, bnd_repulsive, diff_none, &
+                      diff_fourtakas, kgc_none, kgc_gradient
    use errors, only: input_error
    implicit none
    private
@@ -29,6 +31,9 @@ module input_numerics
       integer :: shepard_every = 30                      !< Shepard density filter every N steps
       logical :: kgc_continuity = .true.                 !< the gradient correction also in the continuity equation
       character(len=name_len) :: boundary = 'dynamic'    !< fluid on solids: 'dynamic' | 'repulsive'
+      ! the choices as their values in options, set where they are read
+      integer :: kernel_id = kernel_wendland, integrator_id = integ_symplectic, viscosity_id = visc_artificial
+      integer :: diffusion_id = diff_fourtakas, kgc_id = kgc_none, boundary_id = bnd_dynamic
    end type numerics_cfg
 
    real(rp) :: dp, h_over_dp, cfl, dt_fixed, alpha, nu, cs_sps, ci_sps, delta
@@ -76,32 +81,39 @@ contains
       if (c%dp <= d%dp) call input_error(file, 'numerics', 'dp', 'is required (particle spacing in m, > 0)')
       call check_real(file, 'numerics', 'dp', c%dp, 0.0_rp, 1.0e3_rp, lo_open=.true.)
       call check_real(file, 'numerics', 'h_over_dp', c%h_over_dp, 1.0_rp, 2.0_rp)
-      call check_choice(file, 'numerics', 'kernel', c%kernel, kernel_names)
+      c%kernel_id = option_index(file, 'numerics', 'kernel', c%kernel, kernel_names)
+      c%kernel = kernel_names(c%kernel_id)
       call check_real(file, 'numerics', 'cfl', c%cfl, 0.0_rp, 0.5_rp, lo_open=.true.)
       call check_real(file, 'numerics', 'dt_fixed', c%dt_fixed, 0.0_rp, 1.0e3_rp)
-      call check_choice(file, 'numerics', 'integrator', c%integrator, integ_names)
+      c%integrator_id = option_index(file, 'numerics', 'integrator', c%integrator, integ_names)
+      c%integrator = integ_names(c%integrator_id)
       call check_int(file, 'numerics', 'verlet_every', c%verlet_every, 1, 1000)
-      call check_choice(file, 'numerics', 'viscosity', c%viscosity, visc_names)
+      c%viscosity_id = option_index(file, 'numerics', 'viscosity', c%viscosity, visc_names)
+      c%viscosity = visc_names(c%viscosity_id)
       call check_real(file, 'numerics', 'alpha', c%alpha, 0.0_rp, 1.0_rp)
       call check_real(file, 'numerics', 'nu', c%nu, 0.0_rp, 1.0_rp)
       call check_real(file, 'numerics', 'cs_sps', c%cs_sps, 0.0_rp, 1.0_rp)
       call check_real(file, 'numerics', 'ci_sps', c%ci_sps, 0.0_rp, 1.0_rp)
-      call check_choice(file, 'numerics', 'boundary', c%boundary, bnd_names)
-      if (len_trim(c%diffusion) == 0) c%diffusion = merge('none     ', 'fourtakas', c%boundary == 'repulsive')
-      call check_choice(file, 'numerics', 'diffusion', c%diffusion, diff_names)
+      c%boundary_id = option_index(file, 'numerics', 'boundary', c%boundary, bnd_names)
+      c%boundary = bnd_names(c%boundary_id)
+      if (len_trim(c%diffusion) == 0) c%diffusion = merge(diff_names(diff_none), diff_names(diff_fourtakas), &
+                                                          c%boundary_id == bnd_repulsive)
+      c%diffusion_id = option_index(file, 'numerics', 'diffusion', c%diffusion, diff_names)
+      c%diffusion = diff_names(c%diffusion_id)
       ! next to a repulsive wall the water needs a density above the
       ! hydrostatic one (the wall lends it no pressure); diffusion removes it
       ! and drives a current along the wall (doc/theory.md)
-      if (c%boundary == 'repulsive' .and. c%diffusion /= 'none') call input_error(file, 'numerics', 'diffusion', &
+      if (c%boundary_id == bnd_repulsive .and. c%diffusion_id /= diff_none) call input_error(file, 'numerics', 'diffusion', &
          "must be 'none' with boundary = 'repulsive' (got '"//trim(c%diffusion)//"')")
       call check_real(file, 'numerics', 'delta', c%delta, 0.0_rp, 1.0_rp)
-      call check_choice(file, 'numerics', 'kernel_correction', c%kernel_correction, kgc_names)
+      c%kgc_id = option_index(file, 'numerics', 'kernel_correction', c%kernel_correction, kgc_names)
+      c%kernel_correction = kgc_names(c%kgc_id)
       call check_int(file, 'numerics', 'shepard_every', c%shepard_every, 1, 100000)
-      if (.not. c%kgc_continuity .and. c%kernel_correction /= 'gradient') call input_error(file, 'numerics', &
+      if (.not. c%kgc_continuity .and. c%kgc_id /= kgc_gradient) call input_error(file, 'numerics', &
          'kgc_continuity', ".false. needs kernel_correction = 'gradient' (got '"//trim(c%kernel_correction)//"')")
       ! both corrections assume the full kernel support that a wall lacking
       ! pressure does not give (doc/theory.md)
-      if (c%boundary == 'repulsive' .and. c%kernel_correction /= 'none') call input_error(file, 'numerics', &
+      if (c%boundary_id == bnd_repulsive .and. c%kgc_id /= kgc_none) call input_error(file, 'numerics', &
          'kernel_correction', "must be 'none' with boundary = 'repulsive' (got '"//trim(c%kernel_correction)//"')")
    end subroutine read_numerics
 

@@ -4,10 +4,12 @@
 module input_wave
    use kinds, only: rp
    use constants, only: name_len, path_len, msg_len
-   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, check_choice, &
+   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, &
                           group_count, int_str
    use errors, only: input_error, alloc_check
    use input_breakwater, only: breakwater_cfg
+   use options, only: option_index, paddle_names, paddle_piston, wave_names, wave_regular, wave_irregular, wave_file, &
+                      gauge_names, gauge_elevation
    implicit none
    private
    public :: wavemaker_cfg, gauge_cfg, damping_cfg, read_wavemaker, write_wavemaker, read_gauges, write_gauges, &
@@ -17,6 +19,8 @@ module input_wave
       logical :: on = .false.                        !< a &wavemaker group is present
       character(len=name_len) :: paddle = 'piston'   !< 'piston' | 'flap'
       character(len=name_len) :: wave = 'regular'    !< 'regular' | 'irregular' | 'file'
+      integer :: paddle_id = paddle_piston           !< paddle as its value in options (paddle_*)
+      integer :: wave_id = wave_regular              !< wave as its value in options (wave_*)
       real(rp) :: x0 = 0.0_rp              !< rest position of the paddle face [m]
       real(rp) :: depth = 0.0_rp           !< still-water depth at the paddle [m]
       real(rp) :: height = 0.0_rp          !< regular: wave height H [m]
@@ -41,6 +45,7 @@ module input_wave
 
    type :: gauge_cfg
       character(len=name_len) :: kind = 'elevation'  !< 'elevation' | 'pressure'
+      integer :: kind_id = gauge_elevation           !< kind as its value in options (gauge_*)
       real(rp) :: x = 0.0_rp, y = 0.0_rp             !< position [m] (y: pressure gauges only)
    end type gauge_cfg
 
@@ -112,14 +117,16 @@ contains
       if (read_failed(file, g, ios, msg)) return
       call wm_from_vars(c)
       c%on = .true.
-      call check_choice(file, g, 'paddle', c%paddle, [character(len=name_len) :: 'piston', 'flap'])
-      call check_choice(file, g, 'wave', c%wave, [character(len=name_len) :: 'regular', 'irregular', 'file'])
+      c%paddle_id = option_index(file, g, 'paddle', c%paddle, paddle_names)
+      c%paddle = paddle_names(c%paddle_id)
+      c%wave_id = option_index(file, g, 'wave', c%wave, wave_names)
+      c%wave = wave_names(c%wave_id)
       call check_real(file, g, 'depth', c%depth, 0.0_rp, 1.0e3_rp, lo_open=.true.)
-      select case (trim(c%wave))
-      case ('regular')
+      select case (c%wave_id)
+      case (wave_regular)
          call check_real(file, g, 'height', c%height, 0.0_rp, c%depth, lo_open=.true.)
          call check_real(file, g, 'period', c%period, 0.0_rp, 1.0e3_rp, lo_open=.true.)
-      case ('irregular')
+      case (wave_irregular)
          call check_real(file, g, 'hs', c%hs, 0.0_rp, c%depth, lo_open=.true.)
          call check_real(file, g, 'tp', c%tp, 0.0_rp, 1.0e3_rp, lo_open=.true.)
          call check_real(file, g, 'gamma', c%gamma, 1.0_rp, 20.0_rp)
@@ -129,11 +136,13 @@ contains
          call check_real(file, g, 'f_hi', c%f_hi, 1.0_rp, 10.0_rp, lo_open=.true.)
          if (c%second_order) call input_error(file, g, 'second_order', &
                                               "applies to regular waves only (wave = 'regular')")
-      case default
+      case (wave_file)
          if (len_trim(c%signal_file) == 0) call input_error(file, g, 'signal_file', &
                                                             "required with wave = 'file' (time [s], displacement [m])")
+      case default
+         call input_error(file, g, 'wave', 'no checks for wave '//trim(c%wave))
       end select
-      if (c%second_order .and. c%paddle /= 'piston') call input_error(file, g, 'second_order', &
+      if (c%second_order .and. c%paddle_id /= paddle_piston) call input_error(file, g, 'second_order', &
                                                                       'is implemented for the piston paddle only')
       call check_real(file, g, 'ramp_periods', c%ramp_periods, 0.0_rp, 100.0_rp)
       call check_real(file, g, 'ramp_time', c%ramp_time, 0.0_rp, 1.0e4_rp)
@@ -170,8 +179,8 @@ contains
          read (u, nml=gauge, iostat=ios, iomsg=msg)
          if (read_failed_open(u, file, 'gauge', ios, msg)) return
          gs(k)%kind = kind; gs(k)%x = x; gs(k)%y = y
-         call check_choice(file, 'gauge #'//int_str(k), 'kind', gs(k)%kind, &
-                           [character(len=name_len) :: 'elevation', 'pressure'])
+         gs(k)%kind_id = option_index(file, 'gauge #'//int_str(k), 'kind', gs(k)%kind, gauge_names)
+         gs(k)%kind = gauge_names(gs(k)%kind_id)
       end do
       close (u)
    end subroutine read_gauges

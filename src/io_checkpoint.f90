@@ -16,7 +16,6 @@ module io_checkpoint
    use comm, only: comm_rank, comm_size, comm_exscan, comm_allgather, comm_sum
    use errors, only: input_error, alloc_check
    use input_check, only: int_str, real_str
-   use decomp, only: decomp_edges
    implicit none
    private
    public :: checkpoint_write, checkpoint_read, checkpoint_check
@@ -29,13 +28,14 @@ module io_checkpoint
 contains
 
    !> mem: the contacts' slip memory (contact_memory_get), the same on every rank.
-   subroutine checkpoint_write(out_dir, dp, p, st, bodies, mem)
+   subroutine checkpoint_write(out_dir, dp, p, st, bodies, mem, edges)
       character(len=*), intent(in) :: out_dir
       real(rp), intent(in) :: dp              !< the case's particle spacing, checked on restart
       type(particles_t), intent(in) :: p
       type(state_t), intent(in) :: st
       type(body_t), intent(in) :: bodies(:)
       real(rp), intent(in) :: mem(:, :)
+      integer, intent(in) :: edges(0:)        !< the slab edges (decomp_t), for a restart on as many ranks
       integer :: b
       real(rp), allocatable :: bs(:, :)
       integer(hid_t) :: f
@@ -65,7 +65,7 @@ contains
       call h5_write_part(f, 'body', p%body(1:n), off, tot)
       call h5_write_part(f, 'id', p%id(1:n), off, tot)
       call h5_write(f, 'rank_counts', counts)
-      call h5_write(f, 'slab_edges', decomp_edges())
+      call h5_write(f, 'slab_edges', edges)
       call h5_attr_write(f, 'n_id', p%n_id)
       call h5_attr_write(f, 't', st%t)
       call h5_attr_write(f, 'dt', st%dt)

@@ -33,7 +33,7 @@ module io_hdf5
    end type statvfs_t
 
    interface h5_write
-      module procedure write_r1, write_r2, write_i1
+      module procedure write_r2, write_i1
    end interface h5_write
    interface h5_read
       module procedure read_r1, read_r2, read_i1
@@ -345,28 +345,6 @@ contains
       if (writing) last_whole = current
       writing = .false.
    end subroutine h5_close
-
-   subroutine write_r1(f, name, a)
-      integer(hid_t), intent(in) :: f
-      character(len=*), intent(in) :: name
-      real(rp), intent(in) :: a(:)
-      integer(hid_t) :: s, d
-      integer(hsize_t) :: dims(1)
-      integer :: err
-      dims = shape(a, kind=hsize_t)
-      call h5screate_simple_f(1, dims, s, err); call check(err, 'dataspace '//name)
-      call h5dcreate_f(f, name, H5T_NATIVE_DOUBLE, s, d, err); call check(err, 'dataset '//name)
-      if (comm_size() > 1) then
-         ! one writer: every rank holds the same array
-         if (comm_rank() /= 0) call h5sselect_none_f(s, err)
-         call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err, file_space_id=s, mem_space_id=s, xfer_prp=xfer)
-      else
-         call h5dwrite_f(d, H5T_NATIVE_DOUBLE, a, dims, err)
-      end if
-      call check(err, 'write '//name)
-      call h5dclose_f(d, err)
-      call h5sclose_f(s, err)
-   end subroutine write_r1
 
    subroutine write_r2(f, name, a)
       integer(hid_t), intent(in) :: f

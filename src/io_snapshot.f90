@@ -15,7 +15,7 @@ module io_snapshot
    use body_dynamics, only: body_t
    implicit none
    private
-   public :: snapshot_write, snapshot_index_rebuild, order_by_id
+   public :: snapshot_write, snapshot_index_rebuild
 
    ! what the XDMF index lists
    integer :: nlist = 0

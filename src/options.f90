@@ -10,7 +10,7 @@ module options
    use errors, only: input_error
    implicit none
    private
-   public :: option_index, option_list
+   public :: option_index
    public :: kernel_names, kernel_wendland, kernel_cubic
    public :: visc_names, visc_artificial, visc_laminar_sps
    public :: diff_names, diff_none, diff_molteni, diff_fourtakas
@@ -18,6 +18,14 @@ module options
    public :: integ_names, integ_symplectic, integ_predictor_corrector, integ_verlet
    public :: bnd_names, bnd_dynamic, bnd_repulsive
    public :: contact_names, model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
+   public :: role_names, role_solid, role_fluid
+   public :: wall_motion_names, wall_fixed, wall_oscillate, wall_wavemaker
+   public :: shape_names, shape_circle, shape_box, shape_wedge, shape_polygon
+   public :: body_motion_names, motion_floating, motion_fixed, motion_prescribed
+   public :: paddle_names, paddle_piston, paddle_flap
+   public :: wave_names, wave_regular, wave_irregular, wave_file
+   public :: placement_names, placement_regular, placement_irregular
+   public :: gauge_names, gauge_elevation, gauge_pressure
 
    !> &numerics kernel
    character(len=name_len), parameter :: kernel_names(*) = [character(len=name_len) :: 'wendland', 'cubic']
@@ -43,6 +51,35 @@ module options
                                                              'noncohesive', 'noncohesive_spring', 'hertz']
    integer, parameter :: model_dynamic = 1, model_repulsive = 2, model_noncohesive = 3, model_spring = 4, &
                          model_hertz = 5
+
+   !> &box, &polygon, &slope role
+   character(len=name_len), parameter :: role_names(*) = [character(len=name_len) :: 'solid', 'fluid']
+   integer, parameter :: role_solid = 1, role_fluid = 2
+   !> &box, &polygon motion; a case file may name the first two, the flume
+   !> builder gives the paddle 'wavemaker'
+   character(len=name_len), parameter :: wall_motion_names(*) = [character(len=name_len) :: 'fixed', 'oscillate', &
+                                                                 'wavemaker']
+   integer, parameter :: wall_fixed = 1, wall_oscillate = 2, wall_wavemaker = 3
+   !> &body shape
+   character(len=name_len), parameter :: shape_names(*) = [character(len=name_len) :: 'circle', 'box', 'wedge', &
+                                                           'polygon']
+   integer, parameter :: shape_circle = 1, shape_box = 2, shape_wedge = 3, shape_polygon = 4
+   !> &body motion
+   character(len=name_len), parameter :: body_motion_names(*) = [character(len=name_len) :: 'floating', 'fixed', &
+                                                                 'prescribed']
+   integer, parameter :: motion_floating = 1, motion_fixed = 2, motion_prescribed = 3
+   !> &wavemaker paddle
+   character(len=name_len), parameter :: paddle_names(*) = [character(len=name_len) :: 'piston', 'flap']
+   integer, parameter :: paddle_piston = 1, paddle_flap = 2
+   !> &wavemaker wave
+   character(len=name_len), parameter :: wave_names(*) = [character(len=name_len) :: 'regular', 'irregular', 'file']
+   integer, parameter :: wave_regular = 1, wave_irregular = 2, wave_file = 3
+   !> &armour placement
+   character(len=name_len), parameter :: placement_names(*) = [character(len=name_len) :: 'regular', 'irregular']
+   integer, parameter :: placement_regular = 1, placement_irregular = 2
+   !> &gauge kind
+   character(len=name_len), parameter :: gauge_names(*) = [character(len=name_len) :: 'elevation', 'pressure']
+   integer, parameter :: gauge_elevation = 1, gauge_pressure = 2
 
 contains
 

@@ -4,10 +4,10 @@ module params
    use constants, only: name_len
    use input, only: case_cfg
    use kernel, only: kernel_norm
-   use options, only: option_index, kernel_names, kernel_wendland, visc_names, visc_artificial, visc_laminar_sps, &
-                      diff_names, diff_none, diff_molteni, diff_fourtakas, kgc_names, kgc_none, kgc_gradient, &
-                      kgc_shepard, integ_names, integ_symplectic, integ_predictor_corrector, integ_verlet, &
-                      bnd_names, bnd_dynamic, bnd_repulsive
+   use options, only: kernel_wendland, visc_artificial, visc_laminar_sps, &
+                      diff_none, diff_molteni, diff_fourtakas, kgc_none, kgc_gradient, &
+                      kgc_shepard, integ_symplectic, integ_predictor_corrector, integ_verlet, &
+                      bnd_dynamic, bnd_repulsive
    implicit none
    private
    public :: params_t, params_init, visc_artificial, visc_laminar_sps, diff_none, diff_molteni, &
@@ -15,7 +15,8 @@ module params
              integ_predictor_corrector, integ_verlet, bnd_dynamic, bnd_repulsive
 
    ! the enumerated values of the model choices are those of module options,
-   ! where the names are turned into them; re-exported here for the solver
+   ! whose option_index turns the names into them where the input is read;
+   ! re-exported here for the solver
 
    type :: params_t
       real(rp) :: dp, h, h2, support2      !< spacing, smoothing length, h^2, (2h)^2
@@ -62,7 +63,7 @@ contains
       prm%h2 = prm%h*prm%h
       prm%support2 = 4.0_rp*prm%h2
       prm%eta2 = 0.01_rp*prm%h2
-      prm%kernel = option_index(c%file, 'numerics', 'kernel', c%numerics%kernel, kernel_names)
+      prm%kernel = c%numerics%kernel_id
       prm%aw = kernel_norm(prm%kernel, prm%h)
       prm%fw = prm%aw/prm%h2
       prm%w0 = prm%aw                      ! both kernels have w(0) = 1
@@ -86,19 +87,19 @@ contains
       prm%rho_max = c%fluid%rho_max*prm%rho0
       prm%cfl = c%numerics%cfl
       prm%dt_fixed = c%numerics%dt_fixed
-      prm%visc = option_index(c%file, 'numerics', 'viscosity', c%numerics%viscosity, visc_names)
+      prm%visc = c%numerics%viscosity_id
       prm%alpha = c%numerics%alpha
       prm%nu = c%numerics%nu
       prm%sps_smag = (c%numerics%cs_sps*prm%dp)**2
       prm%sps_blin = (2.0_rp/3.0_rp)*c%numerics%ci_sps*prm%dp**2
-      prm%diffusion = option_index(c%file, 'numerics', 'diffusion', c%numerics%diffusion, diff_names)
+      prm%diffusion = c%numerics%diffusion_id
       prm%delta_coef = c%numerics%delta*prm%h*prm%c0
-      prm%kgc = option_index(c%file, 'numerics', 'kernel_correction', c%numerics%kernel_correction, kgc_names)
+      prm%kgc = c%numerics%kgc_id
       prm%shepard_every = c%numerics%shepard_every
       prm%kgc_cont = merge(1.0_rp, 0.0_rp, c%numerics%kgc_continuity)
-      prm%integrator = option_index(c%file, 'numerics', 'integrator', c%numerics%integrator, integ_names)
+      prm%integrator = c%numerics%integrator_id
       prm%verlet_every = c%numerics%verlet_every
-      prm%boundary = option_index(c%file, 'numerics', 'boundary', c%numerics%boundary, bnd_names)
+      prm%boundary = c%numerics%boundary_id
       prm%rep_a = (10.0_rp/c%fluid%coef)**2*0.01_rp*prm%c0**2/prm%h
       prm%rep_b = (10.0_rp/c%fluid%coef)*prm%c0/prm%h
       prm%rep_u = 40.0_rp/prm%c0

@@ -16,9 +16,10 @@ module probe_gauges
    use particles, only: particles_t
    use kernel, only: kernel_w
    use errors, only: fatal, alloc_check
+   use options, only: gauge_elevation
    implicit none
    private
-   public :: gauges_open, gauges_sample, gauges_close, gauge_values
+   public :: gauges_open, gauges_sample, gauges_close
 
    integer :: unit_ = 0
    logical :: opened = .false.
@@ -46,7 +47,7 @@ contains
       write (unit_, '(a)') '# id,kind,x,y'
       head = 'time'
       do k = 1, size(gs)
-         if (gs(k)%kind == 'elevation') then
+         if (gs(k)%kind_id == gauge_elevation) then
             write (unit_, '("# ",i0,",elevation,",f0.6,",nan")') k, gs(k)%x
             write (b, '(",eta_",i0)') k
          else
@@ -112,7 +113,7 @@ contains
       do k = 1, size(gs)
          off = (k - 1)*ny
          call candidates(gs(k)%x, prm, g, p, nc)
-         if (gs(k)%kind == 'elevation') then
+         if (gs(k)%kind_id == gauge_elevation) then
             call add_column(prm, nc, ybot, dy, acc(off + 1:off + ny))
          else
             call add_point(prm, nc, gs(k)%y, acc(off + 1:off + 2))
@@ -121,7 +122,7 @@ contains
       call comm_sum(acc)
       do k = 1, size(gs)
          off = (k - 1)*ny
-         if (gs(k)%kind == 'elevation') then
+         if (gs(k)%kind_id == gauge_elevation) then
             val(k) = surface(acc(off + 1:off + ny))
          else
             val(k) = 0.0_rp

@@ -6,7 +6,8 @@ module scene
    use input, only: case_cfg
    use input_body, only: body_cfg
    use body_shapes, only: body_outline, body_mass_properties, body_particles
-   use body_dynamics, only: body_t, motion_floating, motion_fixed, motion_prescribed
+   use body_dynamics, only: body_t
+   use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, wall_fixed
    use input_geometry, only: geom_object
    use particles, only: particles_t, particles_grow
    use params, only: params_t, params_init
@@ -143,11 +144,7 @@ contains
       real(rp), parameter :: deg = 3.14159265358979323846_rp/180.0_rp
       call body_mass_properties(bc, b%mass, b%c, b%inertia)
       call body_particles(bc, dp, layers, xb, nb, surf)
-      select case (trim(bc%motion))
-      case ('fixed'); b%motion = motion_fixed
-      case ('prescribed'); b%motion = motion_prescribed
-      case default; b%motion = motion_floating
-      end select
+      b%motion = bc%motion_id  ! the values of options: motion_floating, motion_fixed, motion_prescribed
       b%id = id
       b%c_start = b%c
       b%theta = bc%angle*deg
@@ -186,7 +183,8 @@ contains
          select case (b%motion)
          case (motion_fixed); p%kind(p%n) = kind_fixed
          case (motion_prescribed); p%kind(p%n) = kind_moving
-         case default; p%kind(p%n) = kind_floating
+         case (motion_floating); p%kind(p%n) = kind_floating
+         case default; call fatal('add_body: unknown motion')
          end select
       end do
    end subroutine add_body
@@ -210,7 +208,7 @@ contains
          columns: do i = 1, nx
             pt = [x0 + (i - 0.5_rp)*dp, y0 + (j - 0.5_rp)*dp]
             if (.not. point_in_polygon(pt, o%v)) cycle columns
-            if (o%role == 'solid') then
+            if (o%role_id == role_solid) then
                if (inside_earlier_solid(pt, objs(1:obj - 1))) cycle columns
             else if (in_hole(pt)) then
                cycle columns
@@ -219,13 +217,13 @@ contains
             k = p%n
             p%x(:, k) = pt
             p%xb(:, k) = pt
-            if (o%role == 'fluid') then
+            if (o%role_id == role_fluid) then
                p%kind(k) = kind_fluid
                p%body(k) = 0
                p%nrm(:, k) = 0.0_rp
                p%surf(k) = 0
             else
-               p%kind(k) = merge(kind_moving, kind_fixed, o%motion /= 'fixed')
+               p%kind(k) = merge(kind_moving, kind_fixed, o%motion_id /= wall_fixed)
                p%body(k) = obj
                ! the outer layer is the surface (contact, repulsive boundary), near a
                ! vertex a corner; a side covered by another solid is no surface
@@ -261,7 +259,7 @@ contains
             if (d >= dmin - 1.0e-12_rp*dmin) cycle edges
             en = sg*[a(2), -a(1)]/norm2(a)
             others: do m = 1, size(objs)
-               if (m == obj .or. objs(m)%role /= 'solid') cycle others
+               if (m == obj .or. objs(m)%role_id /= role_solid) cycle others
                if (point_in_polygon(pt + dp*en, objs(m)%v)) cycle edges
             end do others
             dmin = d
@@ -326,7 +324,7 @@ contains
       integer :: e
       inside = .false.
       do e = 1, size(earlier)
-         if (earlier(e)%role /= 'solid') cycle
+         if (earlier(e)%role_id /= role_solid) cycle
          if (point_in_polygon(pt, earlier(e)%v)) then
             inside = .true.
             return

@@ -11,9 +11,11 @@ module scene_flume
    use input_breakwater, only: breakwater_cfg, armour_cfg
    use input_check, only: int_str, real_str
    use errors, only: input_error, alloc_check
+   use options, only: role_solid, role_fluid, wall_wavemaker, motion_fixed, motion_floating, shape_box, &
+                      placement_irregular
    implicit none
    private
-   public :: armour_layer_t, paddle_object, breakwater_objects, armour_units, breakwater_levels
+   public :: armour_layer_t, paddle_object, breakwater_objects, armour_units
 
    !> What the armour generator achieved; the solver writes it to armour.csv.
    type :: armour_layer_t
@@ -53,7 +55,9 @@ contains
       o%index = 1
       o%generated = .true.
       o%role = 'solid'
+      o%role_id = role_solid
       o%motion = 'wavemaker'
+      o%motion_id = wall_wavemaker
       o%hinge_depth = wm%depth
       o%box = [wm%x0 - thick, wm%x0, wm%y_bed, top]
       o%nv = 4
@@ -127,6 +131,7 @@ contains
       n = n + 1
       tmp(n)%group = 'polygon'
       tmp(n)%role = 'fluid'
+      tmp(n)%role_id = role_fluid
       if (y_toe > 0.0_rp) then
          tmp(n)%v = reshape([bw%x_start, 0.0_rp, x_fs, 0.0_rp, x_toe, y_toe, x_swl, bw%depth, &
                              bw%x_start, bw%depth], [2, 5])
@@ -213,6 +218,7 @@ contains
       if (ar%toe_block) then
          bodies(1) = unit_cfg(ar, p0, t, nrm, layer%alpha, 0.5_rp*ar%dn, 0.0_rp)
          bodies(1)%motion = 'fixed'
+         bodies(1)%motion_id = motion_fixed
       end if
       do k = 1, n
          bodies(i + k) = unit_cfg(ar, p0, t, nrm, layer%alpha, r%sc(k), r%tilt(k))
@@ -236,7 +242,7 @@ contains
       r%tilt = 0.0_rp
       r%wgt = 1.0_rp
       state = ar%seed
-      if (ar%placement == 'irregular') then
+      if (ar%placement_id == placement_irregular) then
          do i = 1, ncap
             r%tilt(i) = (2.0_rp*uniform(state) - 1.0_rp)*ar%max_tilt*deg
             r%wgt(i) = 1.0_rp + (2.0_rp*uniform(state) - 1.0_rp)*ar%gap_spread
@@ -347,6 +353,7 @@ contains
       w = ar%dn*(abs(cos(phi)) + abs(sin(phi)))
       c = p0 + s*t + 0.5_rp*w*nrm
       b%shape = 'box'
+      b%shape_id = shape_box
       b%width = ar%dn
       b%height = ar%dn
       b%x = c(1)
@@ -355,6 +362,7 @@ contains
       b%density = ar%density
       b%mu = ar%mu
       b%motion = 'floating'
+      b%motion_id = motion_floating
       b%generated = .true.
    end function unit_cfg
 

@@ -20,14 +20,14 @@ module solver
    use contact, only: contact_t, contact_init, contact_memory_advance, contact_memory_get, contact_memory_set
    use io_bodies, only: bodies_csv_open, bodies_csv_row, bodies_csv_close
    use grid, only: grid_t, grid_init, grid_columns, grid_sort, grid_first_column_end, grid_add_halo
-   use decomp, only: decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, decomp_lo, &
-                     decomp_hi
+   use decomp, only: decomp_t, decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, &
+                     decomp_lo, decomp_hi
    use comm_halo, only: comm_halo_migrate, comm_halo_build, comm_halo_redistribute
    use eos, only: eos_update
    use fluid_forces, only: forces_work_t, forces_init
    use kernel_correction, only: shepard_filter
    use step, only: step_state_t, step_advance, step_dt_ratio
-   use bc_motion, only: motion_apply
+   use bc_motion, only: walls_t, walls_init, motion_apply
    use run_state, only: state_t
    use io_hdf5, only: h5_start, h5_stop
    use io_files, only: outdir_prepare, outdir_unlock, dir_writable, text_hash, file_text, energy_open, energy_row, &
@@ -38,7 +38,7 @@ module solver
    use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup
    use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max, comm_allgather, comm_node_size
    use errors, only: fatal, input_error, alloc_check
-   use wave_paddle, only: paddle_init
+   use wave_paddle, only: paddle_t, paddle_init
    use wave_damping, only: damping_apply
    use probe_gauges, only: gauges_open, gauges_sample, gauges_close
    use io_armour, only: armour_csv_write
@@ -60,7 +60,8 @@ module solver
    real(rp), allocatable :: scratch1(:), scratch2(:)
    integer :: n_global = 0                   !< particles on all ranks
    integer :: n_kind(4) = 0                  !< particles of each kind at the start, all ranks
-   logical :: moving = .false.               !< the case has moving walls
+   type(walls_t) :: walls                    !< moving walls and the paddle: their laws of time
+   type(decomp_t) :: dc                      !< the slabs of the ranks
    real(rp) :: t_next_gauge = 0.0_rp
    character(len=:), allocatable :: wave_report
 
@@ -84,7 +85,7 @@ contains
       written = .true.
       do while (.not. done)
          call neighbours()
-         call step_advance(prm, g, p, w, ss, cfg%objs, moving, bodies, ct, st%t, st%istep + 1, st%dt)
+         call step_advance(prm, g, p, w, ss, walls, bodies, ct, st%t, st%istep + 1, st%dt)
          if (st%dt > ss%dt_limit) call refuse_fixed_step(ss%dt_limit)
          if (size(bodies) > 0) call contact_memory_advance(ct, bodies, st%dt)
          if (cfg%damping%on) call damping_apply(cfg%damping, p, st%dt)
@@ -126,6 +127,7 @@ contains
       type(case_cfg), intent(in) :: c
       integer, allocatable :: counts(:), edges(:)
       real(rp), allocatable :: mem(:, :)
+      type(paddle_t) :: paddle
       integer :: ist
       character(len=200) :: emsg
       cfg = c
@@ -133,7 +135,7 @@ contains
       call timer_start(t_setup)
       ! every check that can still fail comes before the output folder is
       ! touched: with overwrite = .true. a case refused here keeps the old run
-      call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, wave_report)
+      call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, paddle, wave_report)
       call check_size(c)
       call check_ranks(c)
       call check_same_case(c)
@@ -164,8 +166,6 @@ contains
             call bodies_prescribe(bodies, 0.0_rp)
             call bodies_place(bodies, p)
          end if
-         ! moving walls start on their motion: position and velocity at t = 0
-         if (any(p%kind(1:p%n) == kind_moving)) call motion_apply(c%objs, p, 0.0_rp)
          st%n_fluid0 = particles_count_kind(p, kind_fluid)
          st%h_swl = prm%h_swl
          st%y_surface = prm%y_surface
@@ -178,7 +178,9 @@ contains
       n_global = p%n
       n_kind = [particles_count_kind(p, kind_fluid), particles_count_kind(p, kind_fixed), &
                 particles_count_kind(p, kind_moving), particles_count_kind(p, kind_floating)]
-      moving = n_kind(3) > 0
+      call walls_init(c%objs, paddle, n_kind(3) > 0, walls)
+      ! moving walls start on their motion: position and velocity at t = 0
+      if (walls%moving .and. .not. c%run%restart) call motion_apply(walls, p, 0.0_rp)
       if (n_kind(1) == 0) call log_line('mbsph: warning: '//trim(c%file)//': the case has '//scene_no_fluid// &
                                         '; only the bodies and moving walls are simulated')
       if (comm_rank() == 0) call write_case(out//'/case.nml', c)
@@ -187,7 +189,7 @@ contains
       call decompose(counts, edges)
       call forces_init(prm)
       if (size(bodies) > 0) then
-         call contact_init(c%file, c%contact, prm, c%fluid%coef, ct)
+         call contact_init(c%contact, prm, c%fluid%coef, ct)
          if (c%run%restart) call contact_memory_set(ct, nint(mem(1:2, :)), mem(3:4, :))
          if (comm_rank() == 0) call bodies_csv_open(out, c%run%restart, st%t)
       end if
@@ -213,7 +215,7 @@ contains
       real(rp), allocatable :: mem(:, :)
       ! without bodies the memory is empty and nothing of it is written
       call contact_memory_get(ct, mem)
-      call checkpoint_write(dir, cfg%numerics%dp, p, st, bodies, mem)
+      call checkpoint_write(dir, cfg%numerics%dp, p, st, bodies, mem, dc%edge)
    end subroutine checkpoint
 
    !> A checkpoint every checkpoint_every steps, when asked for.
@@ -257,7 +259,7 @@ contains
          if (mod(st%istep, cfg%run%balance_every) == 0) call rebalance()
       end if
       call remove_particles()
-      call comm_halo_migrate(p, drop)
+      call comm_halo_migrate(dc, p, drop)
       call grid_sort(g, p, drop, cells=size(bodies) > 0)
       if (comm_size() > 1) then
          call comm_halo_build(p, grid_first_column_end(g))
@@ -364,22 +366,22 @@ contains
       nr = comm_size()
       me = comm_rank()
       call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h)
-      call decomp_init(g%x0, g%cs, g%ncx_all, nr, me)
+      call decomp_init(dc, g%x0, g%cs, g%ncx_all, nr, me)
       if (nr == 1) return
       same = size(counts) == nr .and. size(edges) == nr + 1
       if (same) same = edges(nr + 1) == g%ncx_all
       if (same) then
-         call decomp_set_edges(edges)
+         call decomp_set_edges(dc, edges)
       else if (cfg%run%restart .and. cfg%run%balance_every > 0) then
          ! (a new run starts from slabs of equal width and balances at step 0)
          allocate (hist(0:g%ncx_all - 1), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'hist in decompose')
          hist = 0
          do i = 1, p%n
-            k = decomp_column(p%x(1, i))
+            k = decomp_column(dc, p%x(1, i))
             hist(k) = hist(k) + 1
          end do
-         moved = decomp_balance(hist)
+         call decomp_balance(dc, hist, moved)
       end if
       ! the particles of this slab; restarting on as many ranks, this rank's
       ! part of the file first, then the others' (as migration appends them)
@@ -406,11 +408,11 @@ contains
       call particles_permute(p, perm, nkeep)
       p%n_own = p%n
       call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h, &
-                     decomp_lo(), decomp_hi())
+                     decomp_lo(dc), decomp_hi(dc))
    contains
       subroutine keep(j)
          integer, intent(in) :: j
-         if (decomp_owner(p%x(1, j)) /= me) return
+         if (decomp_owner(dc, p%x(1, j)) /= me) return
          nkeep = nkeep + 1
          perm(nkeep) = j
       end subroutine keep
@@ -421,20 +423,22 @@ contains
    subroutine rebalance()
       integer, allocatable :: hist(:)
       integer :: i, k
+      logical :: moved
       integer :: ist
       character(len=200) :: emsg
       allocate (hist(0:g%ncx_all - 1), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'hist in rebalance')
       hist = 0
       do i = 1, p%n_own
-         k = decomp_column(p%x(1, i))
+         k = decomp_column(dc, p%x(1, i))
          hist(k) = hist(k) + 1
       end do
       call comm_sum(hist)
-      if (.not. decomp_balance(hist)) return
-      call comm_halo_redistribute(p)
+      call decomp_balance(dc, hist, moved)
+      if (.not. moved) return
+      call comm_halo_redistribute(dc, p)
       call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h, &
-                     decomp_lo(), decomp_hi())
+                     decomp_lo(dc), decomp_hi(dc))
       call ensure_scratch()
    end subroutine rebalance
 
@@ -621,7 +625,7 @@ contains
       if (prm%kgc == kgc_gradient) fx = fx//', kernel gradient correction'
       if (prm%kgc == kgc_shepard) fx = fx//', Shepard filter every '//int_str(prm%shepard_every)//' steps'
       if (prm%boundary == bnd_repulsive) fx = fx//', repulsive-force boundary'
-      if (moving) fx = fx//', moving boundaries'
+      if (walls%moving) fx = fx//', moving boundaries'
       if (cfg%wavemaker%on) fx = fx//', wavemaker ('//trim(cfg%wavemaker%paddle)//', '//trim(cfg%wavemaker%wave)//')'
       if (cfg%damping%on) fx = fx//', damping zone x = '//real_str(cfg%damping%x0)//' to '//real_str(cfg%damping%x1)// &
                                ' m'

@@ -12,14 +12,13 @@ module step
    use grid, only: grid_t
    use particles, only: particles_t
    use fluid_forces, only: forces_work_t, forces_compute
-   use input_geometry, only: geom_object
-   use bc_motion, only: motion_apply
+   use bc_motion, only: walls_t, motion_apply
    use timers, only: timer_start, timer_stop, t_pairs, t_integrate, t_bodies
    use body_dynamics, only: body_t, bodies_place, bodies_fluid_forces, bodies_save, bodies_predict, &
                             bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, bodies_accel2, &
-                            bodies_sum_ranks, bodies_prescribe
+                            bodies_pack_sums, bodies_unpack_sums, bodies_prescribe
    use contact, only: contact_t, contact_forces
-   use comm, only: comm_max
+   use comm, only: comm_max, comm_size, comm_sum
    use errors, only: fatal, alloc_check
    use input_check, only: int_str
    use comm_halo, only: comm_halo_reverse, comm_halo_refresh
@@ -44,14 +43,13 @@ contains
    !> ss%dt_limit, the stable step of the state at t. istep is the number of the
    !> step being taken (1 for the first). A fixed step above ss%dt_limit is not
    !> taken: the particles and bodies are left as they were at t.
-   subroutine step_advance(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt)
+   subroutine step_advance(prm, g, p, w, ss, walls, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       type(step_state_t), intent(inout) :: ss
-      type(geom_object), intent(in) :: objs(:)
-      logical, intent(in) :: has_moving
+      type(walls_t), intent(in) :: walls
       type(body_t), intent(inout) :: bodies(:)
       type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
@@ -59,9 +57,9 @@ contains
       real(rp), intent(out) :: dt
       select case (prm%integrator)
       case (integ_verlet)
-         call verlet(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt)
+         call verlet(prm, g, p, w, ss, walls, bodies, ct, t, istep, dt)
       case (integ_symplectic, integ_predictor_corrector)
-         call two_stage(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt)
+         call two_stage(prm, g, p, w, ss, walls, bodies, ct, t, istep, dt)
       case default  ! none: params sets one of the three (options)
          call fatal('internal error: integrator '//int_str(prm%integrator)//' has no scheme')
       end select
@@ -126,6 +124,7 @@ contains
       type(forces_work_t), intent(inout) :: w
       type(body_t), intent(inout) :: bodies(:)
       type(contact_t), intent(inout) :: ct
+      real(rp), allocatable :: sums(:)
       call timer_start(t_pairs)
       call forces_compute(prm, g, p, w)
       call timer_stop(t_pairs)
@@ -141,8 +140,12 @@ contains
       call timer_start(t_bodies)
       call bodies_fluid_forces(bodies, p, w%acc)
       ! every rank summed the pairs and particles it owns: one sum over the
-      ! ranks, then every rank advances the same bodies
-      call bodies_sum_ranks(bodies)
+      ! ranks of one packed array, then every rank advances the same bodies
+      if (comm_size() > 1) then
+         call bodies_pack_sums(bodies, ct%damp, sums)
+         call comm_sum(sums)
+         call bodies_unpack_sums(sums, bodies, ct%damp)
+      end if
       call timer_stop(t_bodies)
    end subroutine evaluate
 
@@ -207,14 +210,13 @@ contains
 
    !> Symplectic (position Verlet, as in DualSPHysics) or the
    !> predictor-corrector of SPHysics; both evaluate forces twice a step.
-   subroutine two_stage(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt)
+   subroutine two_stage(prm, g, p, w, ss, walls, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       type(step_state_t), intent(inout) :: ss
-      type(geom_object), intent(in) :: objs(:)
-      logical, intent(in) :: has_moving
+      type(walls_t), intent(in) :: walls
       type(body_t), intent(inout) :: bodies(:)
       type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
@@ -240,10 +242,10 @@ contains
             p%rho(i) = max(p%rho(i), prm%rho0)
          end if
       end do
-      if (has_moving) call motion_apply(objs, p, t + hdt)
+      if (walls%moving) call motion_apply(walls, p, t + hdt)
       if (size(bodies) > 0) then
          call bodies_save(bodies)
-         call bodies_predict(bodies, hdt)
+         call bodies_predict(bodies, ct%damp, hdt)
          call bodies_prescribe(bodies, t + hdt)
          call bodies_place(bodies, p)
       end if
@@ -277,12 +279,12 @@ contains
             end if
          end do
       end if
-      if (has_moving) call motion_apply(objs, p, t + dt)
+      if (walls%moving) call motion_apply(walls, p, t + dt)
       if (size(bodies) > 0) then
          if (symplectic) then
-            call bodies_correct_symplectic(bodies, dt)
+            call bodies_correct_symplectic(bodies, ct%damp, dt)
          else
-            call bodies_correct_pc(bodies, dt)
+            call bodies_correct_pc(bodies, ct%damp, dt)
          end if
          call bodies_prescribe(bodies, t + dt)
          call bodies_place(bodies, p)
@@ -292,14 +294,13 @@ contains
 
    !> Verlet: a leapfrog over two steps, with an Euler step every
    !> verlet_every steps to keep the two interleaved solutions together.
-   subroutine verlet(prm, g, p, w, ss, objs, has_moving, bodies, ct, t, istep, dt)
+   subroutine verlet(prm, g, p, w, ss, walls, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       type(step_state_t), intent(inout) :: ss
-      type(geom_object), intent(in) :: objs(:)
-      logical, intent(in) :: has_moving
+      type(walls_t), intent(in) :: walls
       type(body_t), intent(inout) :: bodies(:)
       type(contact_t), intent(inout) :: ct
       real(rp), intent(in) :: t
@@ -336,9 +337,9 @@ contains
             p%rho(i) = max(rnew, prm%rho0)
          end if
       end do
-      if (has_moving) call motion_apply(objs, p, t + dt)
+      if (walls%moving) call motion_apply(walls, p, t + dt)
       if (size(bodies) > 0) then
-         call bodies_verlet(bodies, dt)
+         call bodies_verlet(bodies, ct%damp, dt)
          call bodies_prescribe(bodies, t + dt)
          call bodies_place(bodies, p)
       end if

@@ -361,7 +361,6 @@ def test_bodies_stay_rigid_and_are_named_in_the_effects_line(tmp_path: Path, mbs
     """Two bodies that collide and spin: every particle is placed from its body's pose
     after every stage, so in the body frame (pose removed) the particles sit exactly
     where they started. The effects line names the bodies and the contact model."""
-    import h5py
     from post.io import list_snapshots, read_snapshot
     proc, out = run_case(COLLIDE.format(model="noncohesive_spring", integrator="symplectic"), tmp_path,
                          binary=mbsph)
@@ -372,8 +371,7 @@ def test_bodies_stay_rigid_and_are_named_in_the_effects_line(tmp_path: Path, mbs
 
     def body_frame(path: Path) -> dict[int, np.ndarray]:
         s = read_snapshot(path)
-        with h5py.File(path) as f:
-            pose = f["body_pose"][()]
+        pose = s.datasets["body_pose"]
         frames = {}
         for b in (1, 2):
             x, y, th = pose[b - 1]

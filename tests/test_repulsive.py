@@ -9,7 +9,6 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import h5py
 import numpy as np
 import pytest
 
@@ -130,8 +129,7 @@ def test_floating_box_draft_on_repulsive_boundary(tmp_path: Path, mbsph: Path) -
         away = ((x[:, 0] > 0.03) & (x[:, 0] < 0.15)) | ((x[:, 0] > 0.45) & (x[:, 0] < 0.57))
         cols = np.round(x[away, 0] / dp)
         levels.append(np.mean([x[away][cols == c, 1].max() for c in np.unique(cols)]) + 0.5 * dp)
-        with h5py.File(path) as f:
-            outline = f["body_outline"][()]
+        outline = snap.datasets["body_outline"]
         inside = np.zeros(len(x), dtype=bool)
         for k in range(len(outline)):       # crossing number against the box outline
             (x1, y1), (x2, y2) = outline[k], outline[(k + 1) % len(outline)]

@@ -11,11 +11,11 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import h5py
 import pytest
 
 from conftest import ROOT, assert_ok, describe, run_case
 from post import stability
+from post.io import read_snapshot
 
 pytestmark = pytest.mark.usefixtures("mbsph")
 
@@ -109,8 +109,7 @@ def test_fixed_step_far_above_the_limit_is_refused(tmp_path: Path, mbsph: Path) 
     was written (the last snapshot is the untouched start)."""
     judge("dt_forced", tmp_path, mbsph)
     out = tmp_path / "out"
-    with h5py.File(out / "snap_00001.h5") as f:
-        assert int(f.attrs["step"]) == 0
+    assert read_snapshot(out / "snap_00001.h5").step == 0
 
 
 def test_fixed_step_below_the_limit_is_taken(tmp_path: Path, mbsph: Path) -> None:
