@@ -16,11 +16,10 @@ module fluid_forces
    use eos, only: eos_update, eos_dynamic_density
    use nbr_list, only: nbr_t, nbr_build
    use kernel, only: kernel_cubic
-   use kernel_correction, only: kgc_matrices, kgc_finish
-   use comm_halo, only: comm_halo_forward, comm_halo_reverse
+   use kernel_correction, only: kgc_sums, kgc_finish
    implicit none
    private
-   public :: forces_work_t, forces_init, forces_compute
+   public :: forces_work_t, forces_init, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last
 
    !> constants of the repulsive boundary handed to the pair loops: A's two
    !> factors, q0, 40/c0, the still-water level, 1/h_swl, dp
@@ -36,8 +35,9 @@ module fluid_forces
       real(rp), allocatable :: rhod(:)     !< density used by the diffusion term
       real(rp), allocatable :: lm(:, :)    !< gradient correction matrices
       real(rp), allocatable :: tau(:, :)   !< SPS stress / rho^2
+      real(rp), allocatable :: gv(:, :)    !< SPS velocity gradients du/dx, du/dy, dv/dx, dv/dy [1/s]
       real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]
-      type(nbr_t) :: nb                    !< the pairs of the evaluation
+      type(nbr_t) :: seg(4)                !< pair lists of the columns in the sweep (forces_sweep)
    end type forces_work_t
 
    abstract interface
@@ -118,7 +118,7 @@ contains
       character(len=200) :: emsg
       if (allocated(w%acc)) then
          if (size(w%drho) >= nmax) return
-         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau)
+         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv)
       end if
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax), stat=ist, errmsg=emsg)
@@ -139,24 +139,25 @@ contains
          call alloc_check(ist, emsg, 'w%lm in ensure')
       end if
       if (prm%visc == visc_laminar_sps) then
-         allocate (w%tau(3, nmax), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'w%tau in ensure')
+         ! allow(multiple-allocations-with-stat): either refused is the same stop
+         allocate (w%tau(3, nmax), w%gv(4, nmax), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'w%tau, w%gv in ensure')
       else
-         allocate (w%tau(3, 1), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'w%tau in ensure')
+         ! allow(multiple-allocations-with-stat): either refused is the same stop
+         allocate (w%tau(3, 1), w%gv(4, 1), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'w%tau, w%gv in ensure')
       end if
    end subroutine ensure
 
-   !> Pressure from density, then every pair: w%acc (gravity included, fluid
-   !> only meaningful) and w%drho for all particles; on several ranks the
-   !> halo's share still has to be sent to its owners.
-   subroutine forces_compute(prm, g, p, w)
+   !> What a force evaluation needs before its pairs: pressure and sound
+   !> speed from density, 1/rho and volumes, the density of the diffusion
+   !> term; the sums the pairs add to (rates, and the sums of a pass before
+   !> the forces) start from zero.
+   subroutine forces_prepare(prm, p, w)
       type(params_t), intent(in) :: prm
-      type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       integer :: i, n
-      real(rp) :: rep(n_rep)
       n = p%n
       call ensure(w, size(p%rho), prm)
       call eos_update(prm, n, p%rho, p%p, w%cs)
@@ -169,60 +170,178 @@ contains
          w%irho(i) = 1.0_rp/p%rho(i)
          w%vol(i) = p%mass(i)*w%irho(i)
       end do
-      ! the pairs of this evaluation, for the passes below, when there are two
-      if (needs_list(prm)) call nbr_build(w%nb, g, p%x, n, prm%kernel, prm%h, prm%support2, prm%fw)
-      if (prm%kgc == kgc_gradient .and. prm%visc == visc_laminar_sps) then
-         ! both need a pass over the pairs before the forces: one shared pass
-         call sps_stress(prm, w%nb, p, w%vol, w%tau, w%lm)
-      else if (prm%kgc == kgc_gradient) then
-         call kgc_matrices(w%nb, p, w%vol, w%lm)
-      else if (prm%visc == visc_laminar_sps) then
-         call sps_stress(prm, w%nb, p, w%vol, w%tau)
-      end if
+      if (prm%kgc == kgc_gradient) w%lm(:, 1:n) = 0.0_rp
+      if (prm%visc == visc_laminar_sps) w%gv(:, 1:n) = 0.0_rp
       w%acc(:, 1:n) = 0.0_rp
       w%drho(1:n) = 0.0_rp
       w%mumax = 0.0_rp
-      ! constants of the repulsive boundary, unused by the dynamic one
-      rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
-      call pairs(n, g, w%nb, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
-                 p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                 prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
+   end subroutine forces_prepare
+
+   !> The pairs of one evaluation: w%acc and w%drho for all particles. Without
+   !> a pass before the forces, one loop over the grid's stencil. With one
+   !> (gradient correction, SPS), a sweep over the cell columns, left to
+   !> right, that keeps the pair lists of two columns only: for column c its
+   !> pair list (nbr_build), then that pass's sums over its rows, which
+   !> completes the sums of column c (the half stencil reaches only to the
+   !> right), so its correction matrices and stress follow; then the forces of
+   !> column c-1, whose partners (columns c-1 and c) are now complete. The
+   !> rows are met in the order of a pass over the whole list, so the sums
+   !> are the same, and the lists cost the memory of a few columns instead of
+   !> 12 bytes a pair. On several ranks the slab's first column waits for the
+   !> halo's share of its sums (from the previous rank) and the last for the
+   !> halo's matrices (from the next): forces_sweep_first and
+   !> forces_sweep_last finish them after the step's halo exchanges.
+   subroutine forces_sweep(prm, g, p, w)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(inout) :: w
+      integer :: c, s
+      logical :: left, right
+      if (.not. needs_list(prm)) then
+         call pair_rows(prm, g, p, w, w%seg(1))
+         return
+      end if
+      call neighbours_of(g, left, right)
+      do c = 1, g%ncol
+         s = slot(g, c)
+         call nbr_build(w%seg(s), g, p%x, p%n, prm%kernel, prm%h, prm%support2, prm%fw, c)
+         call pre_sums(prm, p, w, w%seg(s))
+         if (.not. (c == 1 .and. left)) call pre_finish(prm, p, w, w%seg(s)%i0, w%seg(s)%i1)
+         if (c >= 2) then
+            if (.not. (c == 2 .and. left)) call pair_rows(prm, g, p, w, w%seg(slot(g, c - 1)))
+         end if
+      end do
+      if (.not. right .and. .not. (g%ncol == 1 .and. left)) call pair_rows(prm, g, p, w, w%seg(slot(g, g%ncol)))
+   end subroutine forces_sweep
+
+   !> After the halo's sums have reached their owners: the first column of a
+   !> slab with a rank on its left, its matrices and stress, then its forces
+   !> (unless it is also the last column and waits for the halo's matrices).
+   subroutine forces_sweep_first(prm, g, p, w)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(inout) :: w
+      logical :: left, right
+      if (.not. needs_list(prm)) return
+      call neighbours_of(g, left, right)
+      if (.not. left) return
+      call pre_finish(prm, p, w, w%seg(slot(g, 1))%i0, w%seg(slot(g, 1))%i1)
+      if (.not. (g%ncol == 1 .and. right)) call pair_rows(prm, g, p, w, w%seg(slot(g, 1)))
+   end subroutine forces_sweep_first
+
+   !> After the halo has its matrices: the forces of the last column of a slab
+   !> with a rank on its right; then gravity on the owned fluid. On several
+   !> ranks the halo's share of the rates still has to reach its owners.
+   subroutine forces_sweep_last(prm, g, p, w)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(inout) :: w
+      logical :: left, right
+      integer :: i
+      if (needs_list(prm)) then
+         call neighbours_of(g, left, right)
+         if (right) call pair_rows(prm, g, p, w, w%seg(slot(g, g%ncol)))
+      end if
       ! gravity on the owned particles only: the pair sums of the halo
       ! copies are added to their owners afterwards (comm_halo_reverse)
       do i = 1, p%n_own
          if (p%kind(i) == kind_fluid) w%acc(2, i) = w%acc(2, i) - prm%g
       end do
-   end subroutine forces_compute
+   end subroutine forces_sweep_last
 
-   !> Sub-particle-scale stress (Smagorinsky eddy viscosity with the Blin
-   !> term, Dalrymple and Rogers 2006), stored as (tau/rho)/rho per fluid particle.
-   !> With lm present, the gradient correction matrices (kgc_matrices) from the
-   !> same sweep over the pairs, at about the cost of one of the two sweeps.
-   subroutine sps_stress(prm, nb, p, vol, tau, lm)
+   !> Whether the slab has a rank on its left and on its right (the grid's
+   !> columns against the domain's).
+   pure subroutine neighbours_of(g, left, right)
+      type(grid_t), intent(in) :: g
+      logical, intent(out) :: left, right
+      left = g%col0 > 0
+      right = g%col0 + g%ncol < g%ncx_all
+   end subroutine neighbours_of
+
+   !> The list slot of column c: two alternate, the first and last columns of
+   !> a slab with neighbours keep theirs until the halo exchanges.
+   pure integer function slot(g, c) result(s)
+      type(grid_t), intent(in) :: g
+      integer, intent(in) :: c
+      logical :: left, right
+      call neighbours_of(g, left, right)
+      if (c == 1 .and. left) then
+         s = 3
+      else if (c == g%ncol .and. right) then
+         s = 4
+      else
+         s = 1 + mod(c, 2)
+      end if
+   end function slot
+
+   !> The pass before the forces over the rows of list nb.
+   subroutine pre_sums(prm, p, w, nb)
       type(params_t), intent(in) :: prm
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(inout) :: w
+      type(nbr_t), intent(in) :: nb
+      if (prm%kgc == kgc_gradient .and. prm%visc == visc_laminar_sps) then
+         ! both need a pass over the pairs before the forces: one shared pass
+         call sps_sums(nb, p, w%vol, w%gv, w%lm)
+      else if (prm%kgc == kgc_gradient) then
+         call kgc_sums(nb, p, w%vol, w%lm)
+      else if (prm%visc == visc_laminar_sps) then
+         call sps_sums(nb, p, w%vol, w%gv)
+      end if
+   end subroutine pre_sums
+
+   !> From the complete sums of the pass before the forces to what the pair
+   !> loop reads, for particles i_lo .. i_hi: the correction matrices
+   !> L = B^-1 in w%lm, the SPS stress in w%tau.
+   subroutine pre_finish(prm, p, w, i_lo, i_hi)
+      type(params_t), intent(in) :: prm
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(inout) :: w
+      integer, intent(in) :: i_lo, i_hi
+      if (prm%kgc == kgc_gradient) call kgc_finish(w%lm, i_lo, i_hi)
+      if (prm%visc == visc_laminar_sps) call sps_tau(prm, p, w%gv, w%tau, i_lo, i_hi)
+   end subroutine pre_finish
+
+   !> The forces of the rows of list nb (or of the whole grid's stencil, for
+   !> the loops without a list) into w%acc and w%drho.
+   subroutine pair_rows(prm, g, p, w, nb)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(inout) :: w
+      type(nbr_t), intent(in) :: nb
+      real(rp) :: rep(n_rep)
+      ! constants of the repulsive boundary, unused by the dynamic one
+      rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
+      call pairs(p%n, g, nb, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+                 p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
+                 prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
+   end subroutine pair_rows
+
+   !> Pair sums of the sub-particle-scale stress: the velocity gradients
+   !> grad v_i = sum_j V_j (v_j - v_i) grad_i W_ij of the rows of nb added to
+   !> gv (zero before the first rows); with lm present,
+   !> the moment matrices of the gradient correction (kgc_sums) from the
+   !> same sweep, at about the cost of one of the two sweeps.
+   subroutine sps_sums(nb, p, vol, gv, lm)
       type(nbr_t), intent(in) :: nb
       type(particles_t), intent(in) :: p
       real(rp), intent(in) :: vol(:)
-      real(rp), intent(out) :: tau(:, :)
-      real(rp), intent(out), optional :: lm(:, :)
-      real(rp), allocatable :: gv(:, :)
+      real(rp), intent(inout) :: gv(:, :)
+      real(rp), intent(inout), optional :: lm(:, :)
       integer :: i, j, k
-      real(rp) :: dx, dy, fac, vi, vj, dvx, dvy, sxx, sxy, syy, s2, nut, sk, xi, yi, vxi, vyi
+      real(rp) :: dx, dy, fac, vi, vj, dvx, dvy, xi, yi, vxi, vyi
       real(rp) :: b1, b2, b3, g1, g2, g3, g4
-      integer :: ist
-      character(len=200) :: emsg
-      allocate (gv(4, p%n), stat=ist, errmsg=emsg)  ! du/dx, du/dy, dv/dx, dv/dy
-      call alloc_check(ist, emsg, 'gv in sps_stress')
-      gv = 0.0_rp
       ! one copy of the pass per choice: no test inside the pair loop
 #define PRE_SPS 1
       if (present(lm)) then
-         lm(:, 1:p%n) = 0.0_rp
 #define PRE_KGC 1
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "pre_pairs.inc"
 #undef PRE_KGC
-         call kgc_finish(p, lm)
       else
 #define PRE_KGC 0
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
@@ -230,8 +349,20 @@ contains
 #undef PRE_KGC
       end if
 #undef PRE_SPS
-      call comm_halo_reverse(gv, p%n_own)
-      do i = 1, p%n
+   end subroutine sps_sums
+
+   !> Sub-particle-scale stress (Smagorinsky eddy viscosity with the Blin
+   !> term, Dalrymple and Rogers 2006) from the summed velocity gradients,
+   !> stored as (tau/rho)/rho per fluid particle.
+   subroutine sps_tau(prm, p, gv, tau, i_lo, i_hi)
+      type(params_t), intent(in) :: prm
+      type(particles_t), intent(in) :: p
+      real(rp), intent(in) :: gv(:, :)
+      real(rp), intent(inout) :: tau(:, :)
+      integer, intent(in) :: i_lo, i_hi     !< the particles whose sums are complete
+      integer :: i
+      real(rp) :: sxx, sxy, syy, s2, nut, sk
+      do i = i_lo, i_hi
          sxx = gv(1, i)
          syy = gv(4, i)
          sxy = 0.5_rp*(gv(2, i) + gv(3, i))
@@ -243,8 +374,7 @@ contains
          tau(3, i) = (2.0_rp*nut*syy + sk)/p%rho(i)
          if (p%kind(i) /= kind_fluid) tau(:, i) = 0.0_rp
       end do
-      call comm_halo_forward(tau, p%n_own)
-   end subroutine sps_stress
+   end subroutine sps_tau
 
 ! the variants: over the grid's stencil (s) without a pass before the forces, over the pair list (l) with one
 #define PAIRS_NAME pairs_s_b1_k1_d0

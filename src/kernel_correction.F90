@@ -9,47 +9,46 @@ module kernel_correction
    use grid, only: grid_t, grid_ranges, grid_last_cell
    use particles, only: particles_t
    use nbr_list, only: nbr_t
-   use comm_halo, only: comm_halo_forward, comm_halo_reverse
    implicit none
    private
-   public :: kgc_matrices, kgc_finish, shepard_filter
+   public :: kgc_sums, kgc_finish, shepard_sums, shepard_apply
 
 contains
 
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "kernel_formulas.inc"
 
-   !> L_i stored as (Lxx, Lxy, Lyy) in lm(:, i), for every particle; the
-   !> identity where the moment matrix is near-singular (free surface spray).
-   subroutine kgc_matrices(nb, p, vol, lm)
+   !> The moment matrices B_i = sum_j V_j grad W_ij (x_j - x_i)^T, stored as
+   !> (Bxx, Bxy, Byy) in lm(:, i): the pairs of the rows of nb added to lm
+   !> (zero before the first rows); kgc_finish turns them into the
+   !> correction matrices once every pair of a particle is in (on several
+   !> ranks, once the halo's share has reached its owner).
+   subroutine kgc_sums(nb, p, vol, lm)
       type(nbr_t), intent(in) :: nb
       type(particles_t), intent(in) :: p
       real(rp), intent(in) :: vol(:)       !< mass/density of every particle
-      real(rp), intent(out) :: lm(:, :)
+      real(rp), intent(inout) :: lm(:, :)
       integer :: i, j, k
       real(rp) :: dx, dy, fac, vi, vj, xi, yi, b1, b2, b3
-      lm(:, 1:p%n) = 0.0_rp
 #define PRE_KGC 1
 #define PRE_SPS 0
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "pre_pairs.inc"
 #undef PRE_KGC
 #undef PRE_SPS
-      call kgc_finish(p, lm)
-   end subroutine kgc_matrices
+   end subroutine kgc_sums
 
-   !> From the moment matrices B summed over the pairs (kgc_matrices, or the
-   !> sweep shared with the SPS velocity gradients) to L_i = B^-1, blended to
-   !> the identity where B is near-singular.
-   subroutine kgc_finish(p, lm)
-      type(particles_t), intent(in) :: p
+   !> From the moment matrices B summed over the pairs (kgc_sums, or the
+   !> sweep shared with the SPS velocity gradients) to L_i = B^-1, stored as
+   !> (Lxx, Lxy, Lyy), blended to the identity where B is near-singular
+   !> (free-surface spray).
+   subroutine kgc_finish(lm, i_lo, i_hi)
       real(rp), intent(inout) :: lm(:, :)
+      integer, intent(in) :: i_lo, i_hi     !< the particles whose sums are complete
       integer :: i
       real(rp) :: a11, a12, a22, det, wgt
       real(rp), parameter :: det_full = 0.75_rp, det_none = 0.5_rp
-      ! the moments of the halo copies belong to the next rank's particles
-      call comm_halo_reverse(lm, p%n_own)
-      do i = 1, p%n
+      do i = i_lo, i_hi
          a11 = lm(1, i); a12 = lm(2, i); a22 = lm(3, i)
          det = a11*a22 - a12*a12
          ! a full support gives det(B) = 1. Near a free surface the support is
@@ -63,15 +62,15 @@ contains
             lm(:, i) = [1.0_rp, 0.0_rp, 1.0_rp]
          end if
       end do
-      call comm_halo_forward(lm, p%n_own)
    end subroutine kgc_finish
 
-   !> Shepard filter: rho_i = sum_j m_j W_ij / sum_j V_j W_ij over fluid
-   !> neighbours and itself, for fluid particles.
-   subroutine shepard_filter(prm, g, p, wsum, msum)
+   !> Shepard filter, first part: msum_i = sum_j m_j W_ij and wsum_i =
+   !> sum_j V_j W_ij over fluid neighbours and itself (shepard_apply divides
+   !> them once the halo's share has reached its owners).
+   subroutine shepard_sums(prm, g, p, wsum, msum)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
-      type(particles_t), intent(inout) :: p
+      type(particles_t), intent(in) :: p
       real(rp), intent(inout) :: wsum(:), msum(:)
       integer :: c, i, j, r, jlo(2), jhi(2)
       real(rp) :: dx, dy, r2, q, w, hinv
@@ -95,11 +94,15 @@ contains
 #include "shepard_pairs.inc"
 #undef KFAC
       end if
-      call comm_halo_reverse(msum, p%n_own)
-      call comm_halo_reverse(wsum, p%n_own)
+   end subroutine shepard_sums
+
+   !> Shepard filter, second part: rho_i = msum_i / wsum_i for the owned fluid particles.
+   subroutine shepard_apply(p, wsum, msum)
+      type(particles_t), intent(inout) :: p
+      real(rp), intent(in) :: wsum(:), msum(:)
+      integer :: i
       do i = 1, p%n_own
          if (p%kind(i) == kind_fluid) p%rho(i) = msum(i)/wsum(i)
       end do
-      call comm_halo_forward(p%rho, p%n_own)
-   end subroutine shepard_filter
+   end subroutine shepard_apply
 end module kernel_correction

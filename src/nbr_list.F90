@@ -6,11 +6,12 @@
 !> the square root and the kernel are paid once per evaluation, not once per
 !> pass, and a pass has no rejected candidates and no cut-off test.
 !>
-!> Order: the pairs of particle i are pairs first(i) .. first(i+1)-1, with
-!> i in increasing order and its partners in the grid's stencil order, so a
-!> pass over the list sums in the same order as a pass over the grid did.
+!> Order: the pairs of particle i are pairs first(i-i0+1) .. first(i-i0+2)-1,
+!> with i in increasing order and its partners in the grid's stencil order, so
+!> a pass over the list sums in the same order as a pass over the grid did.
 !> Rows of the halo particles (on several ranks) are empty: they appear only
-!> as partners j.
+!> as partners j. A list holds the rows of every particle (i0 = 1) or those of
+!> one cell column (fluid_forces keeps a window of a few columns' lists).
 module nbr_list
    use kinds, only: rp
    use errors, only: alloc_check
@@ -22,8 +23,9 @@ module nbr_list
 
    type :: nbr_t
       integer :: n = 0                     !< particles the list was built for
+      integer :: i0 = 1, i1 = 0            !< its rows: particles i0 .. i1
       integer :: np = 0                    !< pairs
-      integer, allocatable :: first(:)     !< pairs of particle i: first(i) .. first(i+1)-1
+      integer, allocatable :: first(:)     !< pairs of particle i: first(i-i0+1) .. first(i-i0+2)-1
       integer, allocatable :: j(:)         !< partner of each pair (the later particle of the stencil)
       real(rp), allocatable :: f(:)        !< kernel factor F of each pair [1/m4 in 2D]
    end type nbr_t
@@ -35,38 +37,51 @@ contains
 
    !> The pairs of the n particles at x, sorted by the grid g, within the
    !> support (squared distance below support2), and their kernel factors
-   !> for the kernel k with smoothing length h and factor fw = aw/h^2.
-   subroutine nbr_build(nb, g, x, n, k, h, support2, fw)
+   !> for the kernel k with smoothing length h and factor fw = aw/h^2: the
+   !> rows of every particle, or with col those of the particles of cell
+   !> column col of the grid (1 .. g%ncol) only.
+   subroutine nbr_build(nb, g, x, n, k, h, support2, fw, col)
       type(nbr_t), intent(inout) :: nb
       type(grid_t), intent(in) :: g
       real(rp), intent(in) :: x(:, :)
       integer, intent(in) :: n, k
       real(rp), intent(in) :: h, support2, fw
-      integer :: c, i, j, r, m, jlo(2), jhi(2), need
+      integer, intent(in), optional :: col
+      integer :: c, i, j, r, m, jlo(2), jhi(2), need, c_lo, c_hi, rows
       real(rp) :: xi, yi, dx, dy, r2, q, hinv
       integer :: ist
       character(len=200) :: emsg
-      if (.not. allocated(nb%first)) then
-         allocate (nb%first(n + 1), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'nb%first in nbr_build')
+      if (present(col)) then
+         c_lo = col*g%ny + 1
+         c_hi = min(col*g%ny + g%ny, grid_last_cell(g))
+         nb%i0 = g%cstart(c_lo)
+         nb%i1 = g%cstart(c_hi + 1) - 1
+      else
+         c_lo = 1
+         c_hi = grid_last_cell(g)
+         nb%i0 = 1
+         nb%i1 = n
       end if
-      if (size(nb%first) < n + 1) then
-         deallocate (nb%first)
-         allocate (nb%first(n + 1), stat=ist, errmsg=emsg)
+      rows = nb%i1 - nb%i0 + 1
+      if (allocated(nb%first)) then
+         if (size(nb%first) < rows + 1) deallocate (nb%first)
+      end if
+      if (.not. allocated(nb%first)) then
+         allocate (nb%first(max(rows + 1, 64)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'nb%first in nbr_build')
       end if
       ! a first guess of the size (13 pairs a particle at h = sqrt(2) dp, 16 at
       ! 1.6 dp): grown by a quarter when short, so that it stays close to the need
       if (.not. allocated(nb%j)) then
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-         allocate (nb%j(max(8*n, 1024)), nb%f(max(8*n, 1024)), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'the pair list', max(8*n, 1024))
+         allocate (nb%j(max(8*rows, 1024)), nb%f(max(8*rows, 1024)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'the pair list', max(8*rows, 1024))
       end if
       nb%n = n
       m = 0
-      do c = 1, grid_last_cell(g)
+      do c = c_lo, c_hi
          do i = g%cstart(c), g%cstart(c + 1) - 1
-            nb%first(i) = m + 1
+            nb%first(i - nb%i0 + 1) = m + 1
             call grid_ranges(g, c, i, jlo, jhi)
             need = m + max(jhi(1) - jlo(1) + 1, 0) + max(jhi(2) - jlo(2) + 1, 0)
             if (need > size(nb%j)) call grow(nb, need)
@@ -87,7 +102,7 @@ contains
          end do
       end do
       ! particles of the last column (the halo or an empty ghost column) start no pairs
-      nb%first(g%cstart(grid_last_cell(g) + 1):n + 1) = m + 1
+      nb%first(g%cstart(c_hi + 1) - nb%i0 + 1:rows + 1) = m + 1
       nb%np = m
       ! the kernel factor of every pair, from its squared distance: one loop
       ! per kernel, without branches, that the compiler vectorises

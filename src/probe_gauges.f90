@@ -12,24 +12,29 @@ module probe_gauges
    use input_wave, only: gauge_cfg
    use params, only: params_t
    use grid, only: grid_t, grid_column, grid_cell
-   use comm, only: comm_sum
    use particles, only: particles_t
    use kernel, only: kernel_w
    use errors, only: fatal, alloc_check
    use options, only: gauge_elevation
    implicit none
    private
-   public :: gauges_open, gauges_sample, gauges_close
+   public :: gauges_t, gauges_open, gauges_sums, gauges_values, gauges_write, gauges_close
 
-   integer :: unit_ = 0
-   logical :: opened = .false.
-   real(rp), allocatable :: cy(:), cdx(:), cv(:), cp(:)   ! candidates of one gauge
+   !> The gauges' file (open on rank 0 only) and the scratch of a sample.
+   type :: gauges_t
+      integer :: unit = 0
+      logical :: opened = .false.
+      integer :: ny = 0                    !< heights sampled per elevation gauge
+      real(rp) :: ybot = 0.0_rp, dy = 0.0_rp   !< lowest height and spacing [m]
+      real(rp), allocatable :: cy(:), cdx(:), cv(:), cp(:)   !< candidates of one gauge
+   end type gauges_t
 
 contains
 
    !> A new file with the gauge table in '#' lines and the column header,
    !> or on restart the old one cut back to rows up to time t_keep.
-   subroutine gauges_open(out_dir, gs, restart, t_keep)
+   subroutine gauges_open(gt, out_dir, gs, restart, t_keep)
+      type(gauges_t), intent(inout) :: gt
       character(len=*), intent(in) :: out_dir
       type(gauge_cfg), intent(in) :: gs(:)
       logical, intent(in) :: restart
@@ -41,89 +46,93 @@ contains
       path = trim(out_dir)//'/gauges.csv'
       keep = ''
       if (restart) keep = csv_rows_until(path, t_keep)
-      open (newunit=unit_, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+      open (newunit=gt%unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
-      opened = .true.
-      write (unit_, '(a)') '# id,kind,x,y'
+      gt%opened = .true.
+      write (gt%unit, '(a)') '# id,kind,x,y'
       head = 'time'
       do k = 1, size(gs)
          if (gs(k)%kind_id == gauge_elevation) then
-            write (unit_, '("# ",i0,",elevation,",f0.6,",nan")') k, gs(k)%x
+            write (gt%unit, '("# ",i0,",elevation,",f0.6,",nan")') k, gs(k)%x
             write (b, '(",eta_",i0)') k
          else
-            write (unit_, '("# ",i0,",pressure,",f0.6,",",f0.6)') k, gs(k)%x, gs(k)%y
+            write (gt%unit, '("# ",i0,",pressure,",f0.6,",",f0.6)') k, gs(k)%x, gs(k)%y
             write (b, '(",p_",i0)') k
          end if
          head = head//trim(b)
       end do
-      write (unit_, '(a)') head
-      if (len(keep) > 0) write (unit_, '(a)', advance='no') keep
-      call csv_flush(unit_, 'gauges.csv')
+      write (gt%unit, '(a)') head
+      if (len(keep) > 0) write (gt%unit, '(a)', advance='no') keep
+      call csv_flush(gt%unit, 'gauges.csv')
    end subroutine gauges_open
 
-   !> One row: the value of every gauge at time t (every rank calls it; rank
-   !> 0 writes).
-   subroutine gauges_sample(t, gs, prm, g, p)
-      real(rp), intent(in) :: t
-      type(gauge_cfg), intent(in) :: gs(:)
-      type(params_t), intent(in) :: prm
-      type(grid_t), intent(in) :: g
-      type(particles_t), intent(in) :: p
-      real(rp) :: val(size(gs))
+   !> One row of gauges.csv: the time and the value of every gauge (rank 0, which opened the file).
+   subroutine gauges_write(gt, t, val)
+      type(gauges_t), intent(in) :: gt
+      real(rp), intent(in) :: t, val(:)
       integer :: k
-      call gauge_values(gs, prm, g, p, val)
-      if (.not. opened) return
-      write (unit_, '(es23.15e3)', advance='no') t
-      do k = 1, size(gs)
-         write (unit_, '(",",es23.15e3)', advance='no') val(k)
+      if (.not. gt%opened) return
+      write (gt%unit, '(es23.15e3)', advance='no') t
+      do k = 1, size(val)
+         write (gt%unit, '(",",es23.15e3)', advance='no') val(k)
       end do
-      write (unit_, '()')
-      call csv_flush(unit_, 'gauges.csv')
-   end subroutine gauges_sample
+      write (gt%unit, '()')
+      call csv_flush(gt%unit, 'gauges.csv')
+   end subroutine gauges_write
 
-   subroutine gauges_close()
-      if (opened) close (unit_)
-      opened = .false.
+   subroutine gauges_close(gt)
+      type(gauges_t), intent(inout) :: gt
+      if (gt%opened) close (gt%unit)
+      gt%opened = .false.
    end subroutine gauges_close
 
-   !> Elevation above still water [m] or pressure [Pa] of every gauge. Each
-   !> rank adds up what its own particles contribute (the kernel sum on a
-   !> column of heights dp/4 apart for an elevation gauge; the weighted
-   !> pressure and the weight for a pressure gauge), one sum over the ranks
-   !> completes them, so the result does not depend on the decomposition.
-   !> The grid must hold the particles' current order (it is sorted every step).
-   subroutine gauge_values(gs, prm, g, p, val)
+   !> What this rank's own particles add to every gauge (the kernel sum on
+   !> a column of heights dp/4 apart for an elevation gauge; the weighted
+   !> pressure and the weight for a pressure gauge), in one array: summed
+   !> over the ranks, gauges_values turns it into the gauges' values, which
+   !> so do not depend on the decomposition. The grid must hold the
+   !> particles' current order (it is sorted every step).
+   subroutine gauges_sums(gt, gs, prm, g, p, acc)
+      type(gauges_t), intent(inout) :: gt
       type(gauge_cfg), intent(in) :: gs(:)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(in) :: p
-      real(rp), intent(out) :: val(:)
-      real(rp), allocatable :: acc(:)
-      integer :: k, nc, ny, off
-      real(rp) :: dy, ybot
+      real(rp), allocatable, intent(out) :: acc(:)
+      integer :: k, nc, off
       integer :: ist
       character(len=200) :: emsg
-      dy = 0.25_rp*prm%dp
-      ybot = g%y0
-      ny = ceiling(g%ncy*g%csy/dy) + 1
+      gt%dy = 0.25_rp*prm%dp
+      gt%ybot = g%y0
+      gt%ny = ceiling(g%ncy*g%csy/gt%dy) + 1
       ! one block per gauge: ny kernel sums (elevation) or 2 (pressure)
-      allocate (acc(size(gs)*ny), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'acc in gauge_values')
+      allocate (acc(size(gs)*gt%ny), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'acc in gauges_sums')
       acc = 0.0_rp
       do k = 1, size(gs)
-         off = (k - 1)*ny
-         call candidates(gs(k)%x, prm, g, p, nc)
+         off = (k - 1)*gt%ny
+         call candidates(gt, gs(k)%x, prm, g, p, nc)
          if (gs(k)%kind_id == gauge_elevation) then
-            call add_column(prm, nc, ybot, dy, acc(off + 1:off + ny))
+            call add_column(gt, prm, nc, acc(off + 1:off + gt%ny))
          else
-            call add_point(prm, nc, gs(k)%y, acc(off + 1:off + 2))
+            call add_point(gt, prm, nc, gs(k)%y, acc(off + 1:off + 2))
          end if
       end do
-      call comm_sum(acc)
+   end subroutine gauges_sums
+
+   !> Elevation above still water [m] or pressure [Pa] of every gauge, from
+   !> the sums of gauges_sums added over the ranks.
+   subroutine gauges_values(gt, gs, prm, acc, val)
+      type(gauges_t), intent(in) :: gt
+      type(gauge_cfg), intent(in) :: gs(:)
+      type(params_t), intent(in) :: prm
+      real(rp), intent(in) :: acc(:)
+      real(rp), intent(out) :: val(:)
+      integer :: k, off
       do k = 1, size(gs)
-         off = (k - 1)*ny
+         off = (k - 1)*gt%ny
          if (gs(k)%kind_id == gauge_elevation) then
-            val(k) = surface(acc(off + 1:off + ny))
+            val(k) = surface(acc(off + 1:off + gt%ny))
          else
             val(k) = 0.0_rp
             if (acc(off + 1) >= 0.1_rp) val(k) = acc(off + 2)/acc(off + 1)
@@ -138,17 +147,17 @@ contains
          eta = ieee_value(eta, ieee_quiet_nan)
          do m = size(s) - 1, 1, -1
             if (s(m) >= 0.5_rp) then
-               eta = ybot + (m - 1)*dy + dy*(s(m) - 0.5_rp)/max(s(m) - s(m + 1), 1.0e-12_rp) - prm%y_surface
+               eta = gt%ybot + (m - 1)*gt%dy + gt%dy*(s(m) - 0.5_rp)/max(s(m) - s(m + 1), 1.0e-12_rp) - prm%y_surface
                return
             end if
          end do
       end function surface
-
-   end subroutine gauge_values
+   end subroutine gauges_values
 
    !> This rank's own fluid particles within 2h of the vertical line
    !> through x: their height, horizontal offset, volume and pressure.
-   subroutine candidates(x, prm, g, p, n)
+   subroutine candidates(gt, x, prm, g, p, n)
+      type(gauges_t), intent(inout) :: gt
       real(rp), intent(in) :: x
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
@@ -157,7 +166,7 @@ contains
       integer :: kx, jx, iy, c, j, cap
       real(rp) :: dx
       cap = 0
-      if (allocated(cy)) cap = size(cy)
+      if (allocated(gt%cy)) cap = size(gt%cy)
       n = 0
       kx = grid_column(g%x0, g%cs, g%ncx_all, x)
       columns: do jx = kx - 1, kx + 1
@@ -168,37 +177,40 @@ contains
                if (p%kind(j) /= kind_fluid) cycle in_cell
                dx = x - p%x(1, j)
                if (abs(dx) >= 2.0_rp*prm%h) cycle in_cell
-               if (n == cap) call grow(cap)
+               if (n == cap) call grow(gt, cap)
                n = n + 1
-               cy(n) = p%x(2, j)
-               cdx(n) = dx
-               cv(n) = p%mass(j)/p%rho(j)
-               cp(n) = prm%b*((p%rho(j)/prm%rho0)**prm%gamma - 1.0_rp)
+               gt%cy(n) = p%x(2, j)
+               gt%cdx(n) = dx
+               gt%cv(n) = p%mass(j)/p%rho(j)
+               gt%cp(n) = prm%b*((p%rho(j)/prm%rho0)**prm%gamma - 1.0_rp)
             end do in_cell
          end do
       end do columns
    end subroutine candidates
 
    !> Kernel sums of the candidates on heights ybot + (m-1) dy, m = 1..size(s).
-   subroutine add_column(prm, nc, ybot, dy, s)
+   subroutine add_column(gt, prm, nc, s)
+      type(gauges_t), intent(in) :: gt
       type(params_t), intent(in) :: prm
       integer, intent(in) :: nc
-      real(rp), intent(in) :: ybot, dy
       real(rp), intent(inout) :: s(:)
       integer :: i, m, lo, hi
-      real(rp) :: r2
+      real(rp) :: r2, ybot, dy
+      ybot = gt%ybot
+      dy = gt%dy
       do i = 1, nc
-         lo = max(0, floor((cy(i) - 2.0_rp*prm%h - ybot)/dy))
-         hi = min(size(s) - 1, ceiling((cy(i) + 2.0_rp*prm%h - ybot)/dy))
+         lo = max(0, floor((gt%cy(i) - 2.0_rp*prm%h - ybot)/dy))
+         hi = min(size(s) - 1, ceiling((gt%cy(i) + 2.0_rp*prm%h - ybot)/dy))
          do m = lo, hi
-            r2 = cdx(i)**2 + (ybot + m*dy - cy(i))**2
-            if (r2 < prm%support2) s(m + 1) = s(m + 1) + cv(i)*kernel_w(prm%kernel, sqrt(r2), prm%h)
+            r2 = gt%cdx(i)**2 + (ybot + m*dy - gt%cy(i))**2
+            if (r2 < prm%support2) s(m + 1) = s(m + 1) + gt%cv(i)*kernel_w(prm%kernel, sqrt(r2), prm%h)
          end do
       end do
    end subroutine add_column
 
    !> Kernel weight and weighted pressure of the candidates at height y.
-   subroutine add_point(prm, nc, y, a)
+   subroutine add_point(gt, prm, nc, y, a)
+      type(gauges_t), intent(in) :: gt
       type(params_t), intent(in) :: prm
       integer, intent(in) :: nc
       real(rp), intent(in) :: y
@@ -206,16 +218,17 @@ contains
       integer :: i
       real(rp) :: r2, w
       near: do i = 1, nc
-         r2 = cdx(i)**2 + (y - cy(i))**2
+         r2 = gt%cdx(i)**2 + (y - gt%cy(i))**2
          if (r2 >= prm%support2) cycle near
-         w = cv(i)*kernel_w(prm%kernel, sqrt(r2), prm%h)
+         w = gt%cv(i)*kernel_w(prm%kernel, sqrt(r2), prm%h)
          a(1) = a(1) + w
-         a(2) = a(2) + w*cp(i)
+         a(2) = a(2) + w*gt%cp(i)
       end do near
    end subroutine add_point
 
    !> Room for twice as many candidates, keeping those found.
-   subroutine grow(cap)
+   subroutine grow(gt, cap)
+      type(gauges_t), intent(inout) :: gt
       integer, intent(inout) :: cap
       real(rp), allocatable :: t1(:), t2(:), t3(:), t4(:)
       integer :: m
@@ -226,15 +239,15 @@ contains
       allocate (t1(m), t2(m), t3(m), t4(m), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 't1, t2, t3, ... in grow')
       if (cap > 0) then
-         t1(1:cap) = cy(1:cap)
-         t2(1:cap) = cdx(1:cap)
-         t3(1:cap) = cv(1:cap)
-         t4(1:cap) = cp(1:cap)
+         t1(1:cap) = gt%cy(1:cap)
+         t2(1:cap) = gt%cdx(1:cap)
+         t3(1:cap) = gt%cv(1:cap)
+         t4(1:cap) = gt%cp(1:cap)
       end if
-      call move_alloc(t1, cy)
-      call move_alloc(t2, cdx)
-      call move_alloc(t3, cv)
-      call move_alloc(t4, cp)
+      call move_alloc(t1, gt%cy)
+      call move_alloc(t2, gt%cdx)
+      call move_alloc(t3, gt%cv)
+      call move_alloc(t4, gt%cp)
       cap = m
    end subroutine grow
 end module probe_gauges

@@ -22,10 +22,10 @@ module solver
    use grid, only: grid_t, grid_init, grid_columns, grid_sort, grid_first_column_end, grid_add_halo
    use decomp, only: decomp_t, decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, &
                      decomp_lo, decomp_hi
-   use comm_halo, only: comm_halo_migrate, comm_halo_build, comm_halo_redistribute
+   use comm_halo, only: comm_halo_migrate, comm_halo_build, comm_halo_redistribute, comm_halo_reverse, comm_halo_forward
    use eos, only: eos_update
    use fluid_forces, only: forces_work_t, forces_init
-   use kernel_correction, only: shepard_filter
+   use kernel_correction, only: shepard_sums, shepard_apply
    use step, only: step_state_t, step_advance, step_dt_ratio
    use bc_motion, only: walls_t, walls_init, motion_apply
    use run_state, only: state_t
@@ -40,7 +40,7 @@ module solver
    use errors, only: fatal, input_error, alloc_check
    use wave_paddle, only: paddle_t, paddle_init
    use wave_damping, only: damping_apply
-   use probe_gauges, only: gauges_open, gauges_sample, gauges_close
+   use probe_gauges, only: gauges_t, gauges_open, gauges_sums, gauges_values, gauges_write, gauges_close
    use io_armour, only: armour_csv_write
    implicit none
    private
@@ -62,6 +62,7 @@ module solver
    integer :: n_kind(4) = 0                  !< particles of each kind at the start, all ranks
    type(walls_t) :: walls                    !< moving walls and the paddle: their laws of time
    type(decomp_t) :: dc                      !< the slabs of the ranks
+   type(gauges_t) :: gt                      !< the gauges' file and scratch
    real(rp) :: t_next_gauge = 0.0_rp
    character(len=:), allocatable :: wave_report
 
@@ -115,7 +116,7 @@ contains
       call summary()
       call energy_close()
       call bodies_csv_close()
-      call gauges_close()
+      call gauges_close(gt)
       call h5_stop()
       call log_close()
       if (comm_rank() == 0) call outdir_unlock(out)
@@ -231,12 +232,12 @@ contains
    !> first row. The gauges need the particles sorted by cell.
    subroutine gauges_start()
       if (size(cfg%gauges) == 0) return
-      if (comm_rank() == 0) call gauges_open(out, cfg%gauges, cfg%run%restart, st%t)
+      if (comm_rank() == 0) call gauges_open(gt, out, cfg%gauges, cfg%run%restart, st%t)
       t_next_gauge = (floor(st%t/cfg%run%gauge_interval + 1.0e-9_rp) + 1)*cfg%run%gauge_interval
       if (cfg%run%restart) return
       drop = .false.
       call grid_sort(g, p, drop, cells=size(bodies) > 0)
-      call gauges_sample(st%t, cfg%gauges, prm, g, p)
+      call gauges_row()
    end subroutine gauges_start
 
    !> A gauges.csv row when one is due.
@@ -244,10 +245,20 @@ contains
       if (size(cfg%gauges) == 0) return
       if (st%t < t_next_gauge*(1.0_rp - 1.0e-12_rp)) return
       call timer_start(t_output)
-      call gauges_sample(st%t, cfg%gauges, prm, g, p)
+      call gauges_row()
       t_next_gauge = (floor(st%t/cfg%run%gauge_interval + 1.0e-9_rp) + 1)*cfg%run%gauge_interval
       call timer_stop(t_output)
    end subroutine gauges_due
+
+   !> The gauges now: each rank's sums, their sum over the ranks, one row by rank 0.
+   subroutine gauges_row()
+      real(rp), allocatable :: acc(:)
+      real(rp) :: val(size(cfg%gauges))
+      call gauges_sums(gt, cfg%gauges, prm, g, p, acc)
+      call comm_sum(acc)
+      call gauges_values(gt, cfg%gauges, prm, acc, val)
+      call gauges_write(gt, st%t, val)
+   end subroutine gauges_row
 
    !> Before a step: slab edges (every balance_every steps), removals,
    !> migration, the sort by cell, the halo, the Shepard filter when due.
@@ -267,7 +278,12 @@ contains
          call ensure_scratch()
       end if
       if (prm%kgc == kgc_shepard .and. mod(st%istep + 1, prm%shepard_every) == 0) then
-         call shepard_filter(prm, g, p, scratch1, scratch2)
+         call shepard_sums(prm, g, p, scratch1, scratch2)
+         ! the halo copies' sums to their owners, the new densities back
+         call comm_halo_reverse(scratch2, p%n_own)
+         call comm_halo_reverse(scratch1, p%n_own)
+         call shepard_apply(p, scratch1, scratch2)
+         call comm_halo_forward(p%rho, p%n_own)
       end if
       call timer_stop(t_grid)
    end subroutine neighbours

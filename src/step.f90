@@ -8,20 +8,20 @@
 module step
    use kinds, only: rp
    use constants, only: kind_fluid, kind_moving
-   use params, only: params_t, integ_symplectic, integ_predictor_corrector, integ_verlet, visc_laminar_sps
+   use params, only: params_t, integ_symplectic, integ_predictor_corrector, integ_verlet, visc_laminar_sps, kgc_gradient
    use grid, only: grid_t
    use particles, only: particles_t
-   use fluid_forces, only: forces_work_t, forces_compute
+   use fluid_forces, only: forces_work_t, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last
    use bc_motion, only: walls_t, motion_apply
    use timers, only: timer_start, timer_stop, t_pairs, t_integrate, t_bodies
    use body_dynamics, only: body_t, bodies_place, bodies_fluid_forces, bodies_save, bodies_predict, &
                             bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, bodies_accel2, &
                             bodies_pack_sums, bodies_unpack_sums, bodies_prescribe
-   use contact, only: contact_t, contact_forces
-   use comm, only: comm_max, comm_size, comm_sum
+   use contact, only: contact_t, contact_sweep, contact_keys_shared, contact_keys_pack, contact_keys_unpack, contact_apply
+   use comm, only: comm_max, comm_size, comm_sum, comm_allgatherv
    use errors, only: fatal, alloc_check
    use input_check, only: int_str
-   use comm_halo, only: comm_halo_reverse, comm_halo_refresh
+   use comm_halo, only: comm_halo_reverse, comm_halo_forward, comm_halo_refresh
    implicit none
    private
    public :: step_state_t, step_advance, step_dt_ratio
@@ -124,13 +124,32 @@ contains
       type(forces_work_t), intent(inout) :: w
       type(body_t), intent(inout) :: bodies(:)
       type(contact_t), intent(inout) :: ct
-      real(rp), allocatable :: sums(:)
+      real(rp), allocatable :: sums(:), mine(:), all(:)
       call timer_start(t_pairs)
-      call forces_compute(prm, g, p, w)
+      call forces_prepare(prm, p, w)
+      call forces_sweep(prm, g, p, w)
+      if (prm%kgc == kgc_gradient .or. prm%visc == visc_laminar_sps) then
+         ! the pass before the forces: the sums of the halo copies belong to
+         ! the next rank's particles, and what they give is copied back; the
+         ! slab's first and last columns waited for these
+         if (prm%kgc == kgc_gradient) call comm_halo_reverse(w%lm, p%n_own)
+         if (prm%visc == visc_laminar_sps) call comm_halo_reverse(w%gv, p%n_own)
+         call forces_sweep_first(prm, g, p, w)
+         if (prm%kgc == kgc_gradient) call comm_halo_forward(w%lm, p%n_own)
+         if (prm%visc == visc_laminar_sps) call comm_halo_forward(w%tau, p%n_own)
+      end if
+      call forces_sweep_last(prm, g, p, w)
       call timer_stop(t_pairs)
       if (size(bodies) > 0) then
          call timer_start(t_bodies)
-         call contact_forces(ct, prm, g, p, bodies, w%drho)
+         call contact_sweep(ct, prm, g, p, bodies, w%drho)
+         ! a contact split between ranks: its centre and pair count over all of them
+         if (contact_keys_shared(ct) .and. comm_size() > 1) then
+            call contact_keys_pack(ct, mine)
+            call comm_allgatherv(mine, all)
+            call contact_keys_unpack(ct, all)
+         end if
+         call contact_apply(ct, prm, p, bodies)
          call timer_stop(t_bodies)
       end if
       ! the pairs' share of the halo particles, to their owners

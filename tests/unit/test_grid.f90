@@ -28,7 +28,7 @@ program test_grid
    use params, only: params_t, visc_artificial, diff_none, kgc_none, integ_symplectic
    use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw, kernel_f
    use nbr_list, only: nbr_t, nbr_build
-   use fluid_forces, only: forces_work_t, forces_init, forces_compute
+   use fluid_forces, only: forces_work_t, forces_init, forces_prepare, forces_sweep, forces_sweep_last
    use testing, only: check, check_close, test_summary
    implicit none
    integer, parameter :: n = 900
@@ -113,7 +113,9 @@ program test_grid
       prm%visc = visc_artificial; prm%alpha = 0.0_rp
       prm%diffusion = diff_none; prm%kgc = kgc_none; prm%integrator = integ_symplectic
       call forces_init(prm)
-      call forces_compute(prm, g, p, w)
+      call forces_prepare(prm, p, w)
+      call forces_sweep(prm, g, p, w)
+      call forces_sweep_last(prm, g, p, w)
       err_d = 0.0_rp; err_a = 0.0_rp; scale_d = 0.0_rp; scale_a = 0.0_rp
       do i = 1, n
          dr = 0.0_rp

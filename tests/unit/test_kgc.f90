@@ -8,7 +8,7 @@ program test_kgc
    use grid, only: grid_t, grid_init, grid_sort
    use params, only: params_t
    use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw
-   use kernel_correction, only: kgc_matrices
+   use kernel_correction, only: kgc_sums, kgc_finish
    use nbr_list, only: nbr_t, nbr_build
    use testing, only: check, check_close, test_summary
    implicit none
@@ -54,7 +54,9 @@ program test_kgc
       call grid_init(g, 0.0_rp, (m + 1)*dp, 0.0_rp, (m + 1)*dp, prm%h)
       call grid_sort(g, p, drop)
       call nbr_build(nb, g, p%x, p%n, prm%kernel, prm%h, prm%support2, prm%fw)
-      call kgc_matrices(nb, p, p%mass(1:n)/p%rho(1:n), lm)
+      lm = 0.0_rp
+      call kgc_sums(nb, p, p%mass(1:n)/p%rho(1:n), lm)
+      call kgc_finish(lm, 1, n)
       f(1:n) = a0 + bx*p%x(1, 1:n) + by*p%x(2, 1:n)
       worst = 0.0_rp
       worst_raw = 0.0_rp

@@ -1,0 +1,182 @@
+!> The state of the contacts (contact_t): the models' constants, the pairs
+!> and the table of touching bodies of the last sweep, the slip memory of
+!> the static friction kept across steps, the damping matrix of the
+!> velocity-proportional forces. The contact modules (contact, contact_dbc,
+!> contact_eq, contact_hertz) share it; this module keeps its tables.
+module contact_state
+   use errors, only: alloc_check
+   use kinds, only: rp
+   use options, only: model_spring
+   implicit none
+   private
+   public :: contact_t, key_index, store_pair, store_candidate, contact_memory_set
+
+   type :: contact_t
+      integer :: model = model_spring
+      real(rp) :: k10b2 = 1.0_rp      !< (10/B)^2
+      real(rp) :: c = 0.0_rp          !< reference speed c0 of Eq. 4-6 [m/s]
+      real(rp) :: r_f = 10.0_rp
+      real(rp) :: q0 = 0.001_rp
+      real(rp) :: qb = 0.0_rp         !< q at which the barrier of R doubles it (0: no barrier)
+      real(rp) :: v_stick = 1.0e-3_rp
+      real(rp) :: xi_max = 0.0_rp     !< slip held by the static friction spring at mu f_n [m] (0: no spring)
+      real(rp) :: k_imp = 0.0_rp      !< K of the approach term K u_L^2 / h (Eq. 2-6 models)
+      real(rp) :: max_penetration = 0.0_rp  !< largest overlap of two surfaces in the last evaluation [m]
+      real(rp) :: dt_limit = huge(1.0_rp)   !< stable step for the stiffest contact of the last evaluation [s]
+      real(rp) :: dt_motion = huge(1.0_rp)  !< step in which no point of a moving body moves more than cfl h [s]
+      ! Hertz: restitution e(alpha) of the damped Hertz spring on a grid of the
+      ! damping number alpha (tsuji_table), inverted by interpolation
+      real(rp), allocatable :: tab_alpha(:), tab_e(:)
+      !> damping of the velocity-proportional contact forces between the floating
+      !> bodies, taken implicitly in their step (body_dynamics: implicit_velocities)
+      real(rp), allocatable :: damp(:, :)
+      logical, allocatable :: cand(:)
+      ! the candidate pairs of the sweep: particles i, j and their bodies bi, bj
+      ! (0: a wall), met in the traversal's order
+      integer :: nc = 0
+      integer, allocatable :: cij(:, :)
+      ! pairs of the last sweep (Eq. 2-6 models), gathered before the forces
+      ! are applied: the slip of the friction is taken at the contact centre
+      ! of each pair of touching bodies, so that a rolling body does not slip
+      integer :: np = 0, nk = 0
+      integer, allocatable :: pij(:, :), pb(:, :), pkey(:)
+      real(rp), allocatable :: pn(:, :), pw(:), pq(:)
+      integer, allocatable :: kid(:, :)
+      real(rp), allocatable :: kx(:, :), kw(:)
+      real(rp), allocatable :: kt(:, :)     !< Hertz: sum of sqrt(overlap) n n^T per pair of bodies (xx, xy, yy);
+                                            !< Eq. 2-6 models: weighted normal (1:2), from the higher id to the lower
+      integer, allocatable :: kmem(:)       !< slip memory of each contact of the sweep (0: none yet)
+      real(rp), allocatable :: kv(:, :)     !< Eq. 2-6 models: weighted velocity of the wall's particles (no body)
+      ! slip memory of the static friction (Eq. 2-6 models): per pair of
+      ! touching bodies (ids lo < hi), the tangential slip xi of body lo
+      ! against body hi at their contact centre, accumulated over the steps
+      ! the contact has lasted and held at |xi| <= xi_max; kept across steps
+      ! and in the checkpoint
+      integer :: nm = 0
+      integer, allocatable :: mid(:, :)
+      real(rp), allocatable :: mxi(:, :)
+   end type contact_t
+
+
+contains
+
+   !> Index of the pair of bodies (ids a, b) in the contact table of the
+   !> sweep, added with zero sums (and its slip memory, if it has one) when new.
+   integer function key_index(ct, a, b) result(k)
+      type(contact_t), intent(inout) :: ct
+      integer, intent(in) :: a, b
+      integer :: lo, hi
+      integer :: ist
+      character(len=200) :: emsg
+      lo = min(a, b); hi = max(a, b)
+      k = slot_of(ct%kid, ct%nk, lo, hi)
+      if (k > 0) return
+      if (.not. allocated(ct%kid)) then
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (ct%kid(2, 16), ct%kx(2, 16), ct%kw(16), ct%kt(3, 16), ct%kmem(16), ct%kv(2, 16), &
+                   stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'ct%kid, ct%kx, ct%kw, ... in key_index')
+      end if
+      if (ct%nk == size(ct%kw)) then
+         ct%kid = reshape([ct%kid, spread(0, 1, 2*ct%nk)], [2, 2*ct%nk])
+         ct%kx = reshape([ct%kx, spread(0.0_rp, 1, 2*ct%nk)], [2, 2*ct%nk])
+         ct%kt = reshape([ct%kt, spread(0.0_rp, 1, 3*ct%nk)], [3, 2*ct%nk])
+         ct%kw = [ct%kw, spread(0.0_rp, 1, ct%nk)]
+         ct%kmem = [ct%kmem, spread(0, 1, ct%nk)]
+         ct%kv = reshape([ct%kv, spread(0.0_rp, 1, 2*ct%nk)], [2, 2*ct%nk])
+      end if
+      ct%nk = ct%nk + 1
+      k = ct%nk
+      ct%kid(:, k) = [lo, hi]
+      ct%kx(:, k) = 0.0_rp
+      ct%kt(:, k) = 0.0_rp
+      ct%kw(k) = 0.0_rp
+      ct%kv(:, k) = 0.0_rp
+      ct%kmem(k) = slot_of(ct%mid, ct%nm, lo, hi)
+   end function key_index
+
+   !> Column of the pair (lo, hi) among the first n columns of ids, or 0.
+   pure integer function slot_of(ids, n, lo, hi) result(k)
+      integer, allocatable, intent(in) :: ids(:, :)
+      integer, intent(in) :: n, lo, hi
+      do k = 1, n
+         if (ids(1, k) == lo .and. ids(2, k) == hi) return
+      end do
+      k = 0
+   end function slot_of
+
+   !> One pair of the sweep kept for the second pass: particles i, j of bodies
+   !> bi, bj (0: a wall), normal n, weight w, q, contact k of the table.
+   subroutine store_pair(ct, i, j, bi, bj, n, w, q, k)
+      type(contact_t), intent(inout) :: ct
+      integer, intent(in) :: i, j, bi, bj, k
+      real(rp), intent(in) :: n(2), w, q
+      integer :: cap
+      integer :: ist
+      character(len=200) :: emsg
+      if (.not. allocated(ct%pkey)) then
+         ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+         allocate (ct%pij(2, 256), ct%pb(2, 256), ct%pkey(256), ct%pn(2, 256), &
+                   ct%pw(256), ct%pq(256), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'ct%pij, ct%pb, ct%pkey, ... in store_pair')
+      end if
+      cap = size(ct%pkey)
+      if (ct%np == cap) then
+         ct%pij = reshape([ct%pij, spread(0, 1, 2*cap)], [2, 2*cap])
+         ct%pb = reshape([ct%pb, spread(0, 1, 2*cap)], [2, 2*cap])
+         ct%pkey = [ct%pkey, spread(0, 1, cap)]
+         ct%pn = reshape([ct%pn, spread(0.0_rp, 1, 2*cap)], [2, 2*cap])
+         ct%pw = [ct%pw, spread(0.0_rp, 1, cap)]
+         ct%pq = [ct%pq, spread(0.0_rp, 1, cap)]
+      end if
+      ct%np = ct%np + 1
+      ct%pij(:, ct%np) = [i, j]
+      ct%pb(:, ct%np) = [bi, bj]
+      ct%pkey(ct%np) = k
+      ct%pn(:, ct%np) = n
+      ct%pw(ct%np) = w
+      ct%pq(ct%np) = q
+   end subroutine store_pair
+
+
+   !> One candidate pair of the sweep (particles i and j within 2h, of two
+   !> different bodies, one of them floating), kept in the sweep's order.
+   subroutine store_candidate(ct, i, j, bi, bj)
+      type(contact_t), intent(inout) :: ct
+      integer, intent(in) :: i, j, bi, bj
+      integer, allocatable :: t(:, :)
+      integer :: ist
+      character(len=200) :: emsg
+      if (.not. allocated(ct%cij)) then
+         allocate (ct%cij(4, 256), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'ct%cij in store_candidate')
+      end if
+      if (ct%nc == size(ct%cij, 2)) then
+         allocate (t(4, 2*ct%nc), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 't in store_candidate')
+         t(:, 1:ct%nc) = ct%cij(:, 1:ct%nc)
+         call move_alloc(t, ct%cij)
+      end if
+      ct%nc = ct%nc + 1
+      ct%cij(:, ct%nc) = [i, j, bi, bj]
+   end subroutine store_candidate
+
+   !> Replace the slip memory by the contacts ids(:, m) (lo < hi) with slips xis(:, m).
+   subroutine contact_memory_set(ct, ids, xis)
+      type(contact_t), intent(inout) :: ct
+      integer, intent(in) :: ids(:, :)
+      real(rp), intent(in) :: xis(:, :)
+      integer :: ist
+      character(len=200) :: emsg
+      ct%nm = size(ids, 2)
+      if (allocated(ct%mid)) deallocate (ct%mid, ct%mxi)
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (ct%mid(2, max(ct%nm, 1)), ct%mxi(2, max(ct%nm, 1)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'ct%mid, ct%mxi in contact_memory_set')
+      ct%mid(:, 1:ct%nm) = ids
+      ct%mxi(:, 1:ct%nm) = xis
+      ! the sweep's contacts point into the old table: they are rebuilt at the next evaluation
+      ct%nk = 0
+   end subroutine contact_memory_set
+
+end module contact_state
