@@ -15,8 +15,8 @@
 !> On one rank every routine returns at once. The messages themselves go
 !> through the typed wrappers of comm (the only module that uses MPI).
 module comm_halo
-   use kinds, only: rp
-   use particles, only: particles_t, particles_grow
+   use kinds, only: rp, lk
+   use particles, only: particles_t, particles_grow, particles_pack, particles_unpack, particles_copy, particles_width
    use decomp, only: decomp_t, decomp_owner
    use comm, only: comm_rank, comm_size, comm_sendrecv, comm_alltoall, comm_alltoallv, comm_no_rank
    use timers, only: timer_start, timer_stop, t_comm
@@ -32,9 +32,6 @@ module comm_halo
    interface comm_halo_reverse
       module procedure reverse_1, reverse_2
    end interface comm_halo_reverse
-
-   integer, parameter :: nfull = 20      !< values per particle when it moves to another rank
-   integer, parameter :: nhalo = 16      !< values per particle of the halo
 
    integer :: n_send = 0                 !< owned particles 1 .. n_send are the left neighbour's halo
    integer :: n_recv = 0                 !< halo particles n_own+1 .. n_own+n_recv
@@ -84,40 +81,20 @@ contains
    end subroutine ensure_keep
 
 
-   !> Every value of particle i, from position k of buf.
-   subroutine pack_full(p, i, buf, k)
-      type(particles_t), intent(in) :: p
-      integer, intent(in) :: i, k
-      real(rp), intent(inout) :: buf(:)
-      buf(k:k + 19) = [p%x(:, i), p%v(:, i), p%rho(i), p%p(i), p%mass(i), p%nrm(:, i), p%xb(:, i), p%nb(:, i), &
-                       p%vm1(:, i), p%rhom1(i), real(p%kind(i), rp), real(p%body(i), rp), real(p%id(i), rp), &
-                       real(p%surf(i), rp)]
-   end subroutine pack_full
-
-   subroutine unpack_full(p, i, buf, k)
-      type(particles_t), intent(inout) :: p
-      integer, intent(in) :: i, k
-      real(rp), intent(in) :: buf(:)
-      p%x(:, i) = buf(k:k + 1); p%v(:, i) = buf(k + 2:k + 3); p%rho(i) = buf(k + 4); p%p(i) = buf(k + 5)
-      p%mass(i) = buf(k + 6); p%nrm(:, i) = buf(k + 7:k + 8); p%xb(:, i) = buf(k + 9:k + 10)
-      p%nb(:, i) = buf(k + 11:k + 12); p%vm1(:, i) = buf(k + 13:k + 14); p%rhom1(i) = buf(k + 15)
-      p%kind(i) = nint(buf(k + 16)); p%body(i) = nint(buf(k + 17)); p%id(i) = nint(buf(k + 18))
-      p%surf(i) = nint(buf(k + 19))
-   end subroutine unpack_full
-
    !> Particles that crossed a slab edge go to the neighbour that owns them
    !> now: marked in drop here (the sort removes them), appended on the
    !> neighbour, those from the left first. The halo is forgotten first.
    subroutine comm_halo_migrate(dc, p, drop)
       type(decomp_t), intent(in) :: dc
       type(particles_t), intent(inout) :: p
-      logical, allocatable, intent(inout) :: drop(:)
-      integer :: i, d, me, nl, nr, rl, rr, k
-      logical, allocatable :: grown(:)
+      logical(lk), allocatable, intent(inout) :: drop(:)
+      integer :: i, d, me, nl, nr, rl, rr, k, nfull
+      logical(lk), allocatable :: grown(:)
       integer :: ist
       character(len=200) :: emsg
       if (comm_size() == 1) return
       call timer_start(t_comm)
+      nfull = particles_width(p, .false.)     ! every field a particle takes with it
       me = comm_rank()
       p%n = p%n_own
       n_send = 0
@@ -130,11 +107,11 @@ contains
          if (d == me) cycle
          if (d == me - 1) then
             call ensure_keep(sbuf, (nl + 1)*nfull)
-            call pack_full(p, i, sbuf, nl*nfull + 1)
+            call particles_pack(p, i, .false., sbuf, nl*nfull + 1)
             nl = nl + 1
          else if (d == me + 1) then
             call ensure_keep(sbuf2, (nr + 1)*nfull)
-            call pack_full(p, i, sbuf2, nr*nfull + 1)
+            call particles_pack(p, i, .false., sbuf2, nr*nfull + 1)
             nr = nr + 1
          else
             call fatal('particle id '//istr(p%id(i))//' moved past a whole slab in one step (from rank '// &
@@ -163,12 +140,12 @@ contains
       end if
       do k = 1, rl
          p%n = p%n + 1
-         call unpack_full(p, p%n, rbuf2, (k - 1)*nfull + 1)
+         call particles_unpack(p, p%n, .false., rbuf2, (k - 1)*nfull + 1)
          drop(p%n) = .false.
       end do
       do k = 1, rr
          p%n = p%n + 1
-         call unpack_full(p, p%n, rbuf, (k - 1)*nfull + 1)
+         call particles_unpack(p, p%n, .false., rbuf, (k - 1)*nfull + 1)
          drop(p%n) = .false.
       end do
       p%n_own = p%n
@@ -181,16 +158,16 @@ contains
    subroutine comm_halo_build(p, nfirst)
       type(particles_t), intent(inout) :: p
       integer, intent(in) :: nfirst
-      integer :: i, k, m
+      integer :: i, k, m, nhalo
       if (comm_size() == 1) return
       call timer_start(t_comm)
+      nhalo = particles_width(p, .true.)      ! the fields the pair loops read
       n_send = 0
       if (left() /= comm_no_rank) n_send = nfirst
       call ensure(sbuf, max(n_send, 1)*nhalo)
       do i = 1, n_send
          k = (i - 1)*nhalo
-         sbuf(k + 1:k + nhalo) = [p%x(:, i), p%v(:, i), p%rho(i), p%mass(i), p%nrm(:, i), p%xb(:, i), p%nb(:, i), &
-                                  real(p%kind(i), rp), real(p%body(i), rp), real(p%id(i), rp), real(p%surf(i), rp)]
+         call particles_pack(p, i, .true., sbuf, k + 1)
       end do
       n_recv = 0
       call comm_sendrecv(n_send, left(), n_recv, right())
@@ -201,11 +178,13 @@ contains
       do m = 1, n_recv
          i = p%n_own + m
          k = (m - 1)*nhalo
-         p%x(:, i) = rbuf(k + 1:k + 2); p%v(:, i) = rbuf(k + 3:k + 4); p%rho(i) = rbuf(k + 5)
-         p%mass(i) = rbuf(k + 6); p%nrm(:, i) = rbuf(k + 7:k + 8); p%xb(:, i) = rbuf(k + 9:k + 10)
-         p%nb(:, i) = rbuf(k + 11:k + 12); p%kind(i) = nint(rbuf(k + 13)); p%body(i) = nint(rbuf(k + 14))
-         p%id(i) = nint(rbuf(k + 15)); p%surf(i) = nint(rbuf(k + 16))
-         p%p(i) = 0.0_rp; p%vm1(:, i) = p%v(:, i); p%rhom1(i) = p%rho(i)
+         call particles_unpack(p, i, .true., rbuf, k + 1)
+         ! the fields the halo does not carry: defined, never read
+         p%p(i) = 0.0_rp
+         if (p%history) then
+            p%vm1(:, i) = p%v(:, i)
+            p%rhom1(i) = p%rho(i)
+         end if
       end do
       p%n = p%n_own + n_recv
       call timer_stop(t_comm)
@@ -298,10 +277,11 @@ contains
       type(particles_t), intent(inout) :: p
       integer :: i, d, me, nr, k, m, nkeep
       integer, allocatable :: scount(:), rcount(:), sdispl(:), rdispl(:), dest(:), fill(:)
-      integer :: ist
+      integer :: ist, nfull
       character(len=200) :: emsg
       if (comm_size() == 1) return
       call timer_start(t_comm)
+      nfull = particles_width(p, .false.)
       me = comm_rank()
       nr = comm_size()
       p%n = p%n_own
@@ -334,9 +314,9 @@ contains
          d = dest(i)
          if (d == me) then
             nkeep = nkeep + 1
-            if (nkeep /= i) call copy(i, nkeep)
+            if (nkeep /= i) call particles_copy(p, i, nkeep)
          else
-            call pack_full(p, i, sbuf, fill(d)*nfull + 1)
+            call particles_pack(p, i, .false., sbuf, fill(d)*nfull + 1)
             fill(d) = fill(d) + 1
          end if
       end do
@@ -346,18 +326,10 @@ contains
       call particles_grow(p, m)
       do k = 1, m
          p%n = p%n + 1
-         call unpack_full(p, p%n, rbuf, (k - 1)*nfull + 1)
+         call particles_unpack(p, p%n, .false., rbuf, (k - 1)*nfull + 1)
       end do
       p%n_own = p%n
       call timer_stop(t_comm)
-   contains
-      subroutine copy(from, to)
-         integer, intent(in) :: from, to
-         p%x(:, to) = p%x(:, from); p%v(:, to) = p%v(:, from); p%rho(to) = p%rho(from); p%p(to) = p%p(from)
-         p%mass(to) = p%mass(from); p%nrm(:, to) = p%nrm(:, from); p%xb(:, to) = p%xb(:, from)
-         p%nb(:, to) = p%nb(:, from); p%vm1(:, to) = p%vm1(:, from); p%rhom1(to) = p%rhom1(from)
-         p%kind(to) = p%kind(from); p%body(to) = p%body(from); p%id(to) = p%id(from); p%surf(to) = p%surf(from)
-      end subroutine copy
    end subroutine comm_halo_redistribute
 
    function istr(i) result(s)

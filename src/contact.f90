@@ -90,7 +90,7 @@ contains
       call find_candidates(ct, prm, p, bodies)
       do i = 1, p%n_own
          if (.not. ct%cand(i)) cycle
-         c = g%icell(i)
+         c = g%cell(i)
          call grid_ranges(g, c, i, jlo, jhi)
          bi = body_of(bodies, p%body(i))
          do r = 1, 2

@@ -5,7 +5,7 @@
 !> contact_eq, contact_hertz) share it; this module keeps its tables.
 module contact_state
    use errors, only: alloc_check
-   use kinds, only: rp
+   use kinds, only: rp, lk
    use options, only: model_spring
    implicit none
    private
@@ -30,7 +30,7 @@ module contact_state
       !> damping of the velocity-proportional contact forces between the floating
       !> bodies, taken implicitly in their step (body_dynamics: implicit_velocities)
       real(rp), allocatable :: damp(:, :)
-      logical, allocatable :: cand(:)
+      logical(lk), allocatable :: cand(:)   !< surface particles that can touch (one byte each)
       ! the candidate pairs of the sweep: particles i, j and their bodies bi, bj
       ! (0: a wall), met in the traversal's order
       integer :: nc = 0

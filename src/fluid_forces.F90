@@ -19,7 +19,7 @@ module fluid_forces
    use kernel_correction, only: kgc_sums, kgc_finish
    implicit none
    private
-   public :: forces_work_t, forces_init, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last
+   public :: forces_work_t, forces_init, forces_ensure, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last
 
    !> constants of the repulsive boundary handed to the pair loops: A's two
    !> factors, q0, 40/c0, the still-water level, 1/h_swl, dp
@@ -110,7 +110,8 @@ contains
       needs_list = prm%kgc == kgc_gradient .or. prm%visc == visc_laminar_sps
    end function needs_list
 
-   subroutine ensure(w, nmax, prm)
+   !> The work arrays for nmax particles, of the models that are on (the others minimal).
+   subroutine forces_ensure(w, nmax, prm)
       type(forces_work_t), intent(inout) :: w
       integer, intent(in) :: nmax
       type(params_t), intent(in) :: prm
@@ -126,28 +127,28 @@ contains
       ! arrays of models that are off stay minimal
       if (prm%diffusion /= diff_none) then
          allocate (w%rhod(nmax), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'w%rhod in ensure')
+         call alloc_check(ist, emsg, 'w%rhod in forces_ensure')
       else
          allocate (w%rhod(1), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'w%rhod in ensure')
+         call alloc_check(ist, emsg, 'w%rhod in forces_ensure')
       end if
       if (prm%kgc == kgc_gradient) then
          allocate (w%lm(3, nmax), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'w%lm in ensure')
+         call alloc_check(ist, emsg, 'w%lm in forces_ensure')
       else
          allocate (w%lm(3, 1), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'w%lm in ensure')
+         call alloc_check(ist, emsg, 'w%lm in forces_ensure')
       end if
       if (prm%visc == visc_laminar_sps) then
          ! allow(multiple-allocations-with-stat): either refused is the same stop
          allocate (w%tau(3, nmax), w%gv(4, nmax), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'w%tau, w%gv in ensure')
+         call alloc_check(ist, emsg, 'w%tau, w%gv in forces_ensure')
       else
          ! allow(multiple-allocations-with-stat): either refused is the same stop
          allocate (w%tau(3, 1), w%gv(4, 1), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'w%tau, w%gv in ensure')
+         call alloc_check(ist, emsg, 'w%tau, w%gv in forces_ensure')
       end if
-   end subroutine ensure
+   end subroutine forces_ensure
 
    !> What a force evaluation needs before its pairs: pressure and sound
    !> speed from density, 1/rho and volumes, the density of the diffusion
@@ -159,7 +160,7 @@ contains
       type(forces_work_t), intent(inout) :: w
       integer :: i, n
       n = p%n
-      call ensure(w, size(p%rho), prm)
+      call forces_ensure(w, size(p%rho), prm)
       call eos_update(prm, n, p%rho, p%p, w%cs)
       if (prm%diffusion == diff_fourtakas) then
          call eos_dynamic_density(prm, n, p%rho, p%x, w%rhod)
@@ -329,7 +330,7 @@ contains
    subroutine sps_sums(nb, p, vol, gv, lm)
       type(nbr_t), intent(in) :: nb
       type(particles_t), intent(in) :: p
-      real(rp), intent(in) :: vol(:)
+      real(rp), intent(in) :: vol(:)       !< mass/density of every particle
       real(rp), intent(inout) :: gv(:, :)
       real(rp), intent(inout), optional :: lm(:, :)
       integer :: i, j, k

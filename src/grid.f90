@@ -13,7 +13,7 @@
 !> ranges per particle (grid_ranges). Columns being contiguous, the owned particles come
 !> first and the halo (the last column) after them.
 module grid
-   use kinds, only: rp
+   use kinds, only: rp, lk
    use errors, only: alloc_check
    use particles, only: particles_t, particles_permute
    implicit none
@@ -37,9 +37,9 @@ module grid
       ! with reach ghost rows below and above) is number ix*ny + iy + reach: see grid_cell
       integer :: ncell            !< nx*ny
       integer, allocatable :: cstart(:)   !< particles of cell c: cstart(c) .. cstart(c+1)-1
-      integer, allocatable :: cell(:)     !< cell of each particle (scratch)
+      integer, allocatable :: cell(:)     !< cell of each particle (the sort's scratch); after a sort
+                                          !< with cells = .true., the cell of each particle slot
       integer, allocatable :: perm(:)     !< sort permutation (scratch)
-      integer, allocatable :: icell(:)    !< cell of each particle slot after the sort
    end type grid_t
 
 contains
@@ -139,18 +139,18 @@ contains
    subroutine grid_sort(g, p, drop, cells)
       type(grid_t), intent(inout) :: g
       type(particles_t), intent(inout) :: p
-      logical, intent(in) :: drop(:)
-      logical, intent(in), optional :: cells   !< also fill g%icell (the contact loop needs it)
+      logical(lk), intent(in) :: drop(:)
+      logical, intent(in), optional :: cells   !< leave in g%cell the cell of each slot (the contact loop needs it)
       integer :: ist
       character(len=200) :: emsg
       integer :: i, c, n, nkeep
       n = p%n
       if (allocated(g%cell)) then
-         if (size(g%cell) < size(p%rho)) deallocate (g%cell, g%perm, g%icell)
+         if (size(g%cell) < size(p%rho)) deallocate (g%cell, g%perm)
       end if
       if (.not. allocated(g%cell)) then
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-         allocate (g%cell(size(p%rho)), g%perm(size(p%rho)), g%icell(size(p%rho)), stat=ist, errmsg=emsg)
+         allocate (g%cell(size(p%rho)), g%perm(size(p%rho)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'the sort of the particles', size(p%rho))
       end if
       g%cstart = 0
@@ -179,13 +179,13 @@ contains
       end do
       g%cstart(1) = 1
       nkeep = g%cstart(g%ncell + 1) - 1
-      call particles_permute(p, g%perm(1:n), nkeep)
+      call particles_permute(p, g%perm(1:n), nkeep, g%cell)
       p%n_own = p%n
       g%cstart(g%ncell + 2) = n + 1
       if (present(cells)) then
          if (cells) then
             do c = 1, g%ncell
-               g%icell(g%cstart(c):g%cstart(c + 1) - 1) = c
+               g%cell(g%cstart(c):g%cstart(c + 1) - 1) = c
             end do
          end if
       end if

@@ -7,7 +7,7 @@
 !> other number of ranks can restart it too (each rank keeps its slab).
 module io_checkpoint
    use kinds, only: rp
-   use particles, only: particles_t, particles_alloc
+   use particles, only: particles_t, particles_alloc, particles_field, field_on, fields, nfield
    use run_state, only: state_t
    use body_dynamics, only: body_t
    use, intrinsic :: iso_fortran_env, only: int64
@@ -25,17 +25,29 @@ module io_checkpoint
    !> number of ranks that wrote them.
    integer(int64), parameter :: prime = 2147483629_int64
 
+   !> One field of the particles as the checksum reads it: the store's
+   !> values, or for a field that is off the values written in its place.
+   type :: column_t
+      real(rp), pointer :: r(:, :) => null()
+      integer, pointer :: iv(:) => null()
+      real(rp), allocatable :: own(:, :)
+   end type column_t
+
 contains
 
    !> mem: the contacts' slip memory (contact_memory_get), the same on every rank.
    subroutine checkpoint_write(out_dir, dp, p, st, bodies, mem, edges)
       character(len=*), intent(in) :: out_dir
       real(rp), intent(in) :: dp              !< the case's particle spacing, checked on restart
-      type(particles_t), intent(in) :: p
+      type(particles_t), target, intent(inout) :: p
       type(state_t), intent(in) :: st
       type(body_t), intent(in) :: bodies(:)
       real(rp), intent(in) :: mem(:, :)
       integer, intent(in) :: edges(0:)        !< the slab edges (decomp_t), for a restart on as many ranks
+      real(rp), pointer :: r(:, :)
+      integer, pointer :: iv(:)
+      type(column_t) :: col(nfield)
+      integer :: k, kk
       integer :: b
       real(rp), allocatable :: bs(:, :)
       integer(hid_t) :: f
@@ -50,20 +62,19 @@ contains
       tot = sum(counts)
       path = trim(out_dir)//'/checkpoint.h5'
       f = h5_create(path//'.tmp')
-      call h5_write_part(f, 'x', p%x(:, 1:n), off, tot)
-      call h5_write_part(f, 'v', p%v(:, 1:n), off, tot)
-      call h5_write_part(f, 'rho', p%rho(1:n), off, tot)
-      call h5_write_part(f, 'p', p%p(1:n), off, tot)
-      call h5_write_part(f, 'mass', p%mass(1:n), off, tot)
-      call h5_write_part(f, 'nrm', p%nrm(:, 1:n), off, tot)
-      call h5_write_part(f, 'xb', p%xb(:, 1:n), off, tot)
-      call h5_write_part(f, 'nb', p%nb(:, 1:n), off, tot)
-      call h5_write_part(f, 'surf', p%surf(1:n), off, tot)
-      call h5_write_part(f, 'vm1', p%vm1(:, 1:n), off, tot)
-      call h5_write_part(f, 'rhom1', p%rhom1(1:n), off, tot)
-      call h5_write_part(f, 'kind', p%kind(1:n), off, tot)
-      call h5_write_part(f, 'body', p%body(1:n), off, tot)
-      call h5_write_part(f, 'id', p%id(1:n), off, tot)
+      do k = 1, nfield
+         ! a field that is off is written as its stand-in: one file layout
+         kk = k
+         if (.not. field_on(p, k)) kk = fields(k)%standin
+         call particles_field(p, kk, r, iv)
+         if (fields(k)%int) then
+            call h5_write_part(f, trim(fields(k)%name), iv(1:n), off, tot)
+         else if (fields(k)%ncomp == 1) then
+            call h5_write_part(f, trim(fields(k)%name), r(1, 1:n), off, tot)
+         else
+            call h5_write_part(f, trim(fields(k)%name), r(:, 1:n), off, tot)
+         end if
+      end do
       call h5_write(f, 'rank_counts', counts)
       call h5_write(f, 'slab_edges', edges)
       call h5_attr_write(f, 'n_id', p%n_id)
@@ -91,7 +102,12 @@ contains
       call h5_attr_write(f, 'dp', dp)
       call h5_attr_write(f, 'n_bodies', size(bodies))
       ! each rank's particles, summed over the ranks (exact: every part is below 2^31)
-      sums(1) = real(particles_checksum(p, n), rp)
+      do k = 1, nfield
+         kk = k
+         if (.not. field_on(p, k)) kk = fields(k)%standin
+         call particles_field(p, kk, col(k)%r, col(k)%iv)
+      end do
+      sums(1) = real(fields_checksum(col, n), rp)
       call comm_sum(sums)
       call h5_attr_write(f, 'checksum', real(mod(nint(sums(1), int64), prime), rp))
       call h5_close(f)
@@ -103,7 +119,7 @@ contains
    !> checkpoint of a serial build); mem the contacts' slip memory (none: 0 columns).
    subroutine checkpoint_read(case_file, out_dir, p, st, bodies, counts, edges, mem)
       character(len=*), intent(in) :: case_file, out_dir
-      type(particles_t), intent(inout) :: p
+      type(particles_t), target, intent(inout) :: p
       type(state_t), intent(inout) :: st
       type(body_t), intent(inout) :: bodies(:)
       integer, allocatable, intent(out) :: counts(:), edges(:)
@@ -113,6 +129,8 @@ contains
       logical :: parts
       real(rp), allocatable :: bs(:, :)
       real(rp) :: sum_file
+      type(column_t), target :: col(nfield)
+      integer :: k
       integer :: ist
       character(len=200) :: emsg
       f = h5_open_read(trim(out_dir)//'/checkpoint.h5')
@@ -135,25 +153,28 @@ contains
          call alloc_check(ist, emsg, 'counts, edges in checkpoint_read')
          counts(1) = n
       end if
-      call h5_read(f, 'x', p%x)
-      call h5_read(f, 'v', p%v)
-      call h5_read(f, 'rho', p%rho)
-      call h5_read(f, 'p', p%p)
-      call h5_read(f, 'mass', p%mass)
-      call h5_read(f, 'nrm', p%nrm)
-      call h5_read(f, 'xb', p%xb)
-      call h5_read(f, 'nb', p%nb)
-      call h5_read(f, 'surf', p%surf)
-      call h5_read(f, 'vm1', p%vm1)
-      call h5_read(f, 'rhom1', p%rhom1)
-      call h5_read(f, 'kind', p%kind)
-      call h5_read(f, 'body', p%body)
-      call h5_read(f, 'id', p%id)
+      ! a field that is off is read aside, for the checksum only
+      do k = 1, nfield
+         if (field_on(p, k)) then
+            call particles_field(p, k, col(k)%r, col(k)%iv)
+         else
+            allocate (col(k)%own(fields(k)%ncomp, n), stat=ist, errmsg=emsg)
+            call alloc_check(ist, emsg, 'a field that is off, in checkpoint_read')
+            col(k)%r => col(k)%own
+         end if
+         if (fields(k)%int) then
+            call h5_read(f, trim(fields(k)%name), col(k)%iv)
+         else if (fields(k)%ncomp == 1) then
+            call h5_read(f, trim(fields(k)%name), col(k)%r(1, :))
+         else
+            call h5_read(f, trim(fields(k)%name), col(k)%r)
+         end if
+      end do
       ! a checkpoint changed after it was written (a byte overwritten, a copy cut
       ! short that HDF5 still reads) is refused here, not run from
       if (h5_attr_exists(f, 'checksum')) then
          call h5_attr_read(f, 'checksum', sum_file)
-         if (particles_checksum(p, n) /= nint(sum_file, int64)) call input_error(case_file, 'run', 'restart', &
+         if (fields_checksum(col, n) /= nint(sum_file, int64)) call input_error(case_file, 'run', 'restart', &
             trim(out_dir)//'/checkpoint.h5: the particle data do not match the checksum written with them: '// &
             'the file was changed or damaged after it was written; restart from an earlier copy or run anew')
       end if
@@ -222,22 +243,26 @@ contains
    end subroutine checkpoint_check
 
    !> Sum over particles 1..n, modulo prime, of a hash of each one's record
-   !> (every word of every field, as its bits).
-   integer(int64) function particles_checksum(p, n) result(cs)
-      type(particles_t), intent(in) :: p
+   !> (every word of every field, as its bits, in the order of the fields'
+   !> table: the reals, then the integers).
+   integer(int64) function fields_checksum(col, n) result(cs)
+      type(column_t), intent(in) :: col(nfield)
       integer, intent(in) :: n
-      integer :: i
+      integer :: i, k
       integer(int64) :: h
       cs = 0
       do i = 1, n
          h = 0
-         call mix_r(h, p%x(:, i)); call mix_r(h, p%v(:, i)); call mix_r(h, [p%rho(i), p%p(i), p%mass(i)])
-         call mix_r(h, p%nrm(:, i)); call mix_r(h, p%xb(:, i)); call mix_r(h, p%nb(:, i))
-         call mix_r(h, p%vm1(:, i)); call mix_r(h, [p%rhom1(i)])
-         call mix_i(h, [p%surf(i), p%kind(i), p%body(i), p%id(i)])
+         do k = 1, nfield
+            if (fields(k)%int) then
+               call mix_i(h, col(k)%iv(i:i))
+            else
+               call mix_r(h, col(k)%r(:, i))
+            end if
+         end do
          cs = mod(cs + h, prime)
       end do
-   end function particles_checksum
+   end function fields_checksum
 
    !> h from the bits of the reals a, 32 at a time (a polynomial hash modulo prime).
    pure subroutine mix_r(h, a)

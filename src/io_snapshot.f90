@@ -5,7 +5,7 @@
 module io_snapshot
    use kinds, only: rp
    use constants, only: msg_len
-   use particles, only: particles_t
+   use particles, only: particles_t, particles_field, field_on, fields, nfield
    use params, only: params_t
    use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_write_part, h5_attr_write, &
                       h5_attr_read, h5_length, file_rename
@@ -28,14 +28,16 @@ contains
    subroutine snapshot_write(out_dir, k, p, prm, t, dt, istep, case_text, bodies)
       character(len=*), intent(in) :: out_dir
       integer, intent(in) :: k, istep
-      type(particles_t), intent(in) :: p
+      type(particles_t), target, intent(inout) :: p
       type(params_t), intent(in) :: prm
       real(rp), intent(in) :: t, dt
       character(len=*), intent(in) :: case_text
       type(body_t), intent(in) :: bodies(:)
       integer(hid_t) :: f
       integer, allocatable :: ord(:), conn(:)
-      integer :: i, n, off, tot(1)
+      real(rp), pointer :: r(:, :)
+      integer, pointer :: iv(:)
+      integer :: i, n, off, tot(1), m
       integer :: ist
       character(len=200) :: emsg
       n = p%n_own
@@ -45,20 +47,26 @@ contains
       off = comm_exscan(n)
       tot = n
       call comm_sum(tot)
+      f = h5_create(snap_name(out_dir, k))
+      ! the fields the table names for the snapshot, in the order of the ids
+      do m = 1, nfield
+         if (len_trim(fields(m)%snap) == 0 .or. .not. field_on(p, m)) cycle
+         call particles_field(p, m, r, iv)
+         if (fields(m)%int) then
+            call h5_write_part(f, trim(fields(m)%snap), iv(ord), off, tot(1))
+         else if (fields(m)%ncomp == 1) then
+            call h5_write_part(f, trim(fields(m)%snap), r(1, ord), off, tot(1))
+         else
+            call h5_write_part(f, trim(fields(m)%snap), r(:, ord), off, tot(1))
+         end if
+      end do
+      ! after the order is freed: the snapshot's peak memory is one gathered field
+      deallocate (ord)
       allocate (conn(n), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'conn in snapshot_write')
       do i = 1, n
          conn(i) = off + i - 1
       end do
-      f = h5_create(snap_name(out_dir, k))
-      call h5_write_part(f, 'position', p%x(:, ord), off, tot(1))
-      call h5_write_part(f, 'velocity', p%v(:, ord), off, tot(1))
-      call h5_write_part(f, 'density', p%rho(ord), off, tot(1))
-      call h5_write_part(f, 'pressure', p%p(ord), off, tot(1))
-      call h5_write_part(f, 'mass', p%mass(ord), off, tot(1))
-      call h5_write_part(f, 'kind', p%kind(ord), off, tot(1))
-      call h5_write_part(f, 'body', p%body(ord), off, tot(1))
-      call h5_write_part(f, 'id', p%id(ord), off, tot(1))
       call h5_write_part(f, 'connectivity', conn, off, tot(1))
       call h5_attr_write(f, 'time', t)
       call h5_attr_write(f, 'dt', dt)

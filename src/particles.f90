@@ -1,16 +1,31 @@
 !> The particle store: structure of arrays, vectors shaped (ndim, n).
+!>
+!> Every per-particle field is listed once, in the table `fields` below: its
+!> name in the checkpoint, its name in the snapshot (blank: not written
+!> there), its components, whether it is an integer field, whether the halo
+!> copies of a neighbouring rank carry it, whether only the Verlet
+!> integrator needs it, and the field whose values the checkpoint holds in
+!> its place when it is off (so that the file keeps one layout). Allocation, growth, the sort's permutation, the move
+!> of a particle to another rank (comm_halo), the halo, the checkpoint and
+!> its checksum (io_checkpoint) and the snapshot (io_snapshot) all loop over
+!> that table (through particles_field), so that adding a field is three
+!> lines here: its declaration in particles_t, its row in the table, its
+!> case in particles_field.
 module particles
    use kinds, only: rp
-   use errors, only: alloc_check
+   use errors, only: alloc_check, fatal
    use constants, only: ndim
    implicit none
    private
-   public :: particles_t, particles_alloc, particles_grow, particles_permute, particles_count_kind
+   public :: particles_t, particles_alloc, particles_grow, particles_fit, particles_permute, particles_count_kind, &
+             field_t, fields, nfield, particles_field, field_on, particles_copy, particles_pack, particles_unpack, &
+             particles_width
 
    type :: particles_t
       integer :: n = 0                       !< particles in use: owned, then the halo
       integer :: n_own = 0                   !< particles this rank owns (1 .. n_own); n on one rank
       integer :: n_id = 0                    !< largest id handed out
+      logical :: history = .true.            !< the Verlet integrator's fields (vm1, rhom1) are held
       real(rp), allocatable :: x(:, :)       !< position [m]
       real(rp), allocatable :: v(:, :)       !< velocity [m/s]
       real(rp), allocatable :: rho(:)        !< density [kg/m3]
@@ -21,81 +36,277 @@ module particles
       real(rp), allocatable :: nb(:, :)      !< body-frame outward normal of a body particle
       real(rp), allocatable :: vm1(:, :)     !< Verlet: velocity one step back
       real(rp), allocatable :: rhom1(:)      !< Verlet: density one step back
+      integer, allocatable :: surf(:)        !< 0 inside a solid, 1 on a flat face, 2 at a corner or curve
       integer, allocatable :: kind(:)        !< kind_fluid, kind_fixed, kind_moving, kind_floating
       integer, allocatable :: body(:)        !< object (body) number, 0 for fluid
       integer, allocatable :: id(:)          !< global id, from 1
-      integer, allocatable :: surf(:)        !< 0 inside a solid, 1 on a flat face, 2 at a corner or curve
    end type particles_t
+
+   !> One per-particle field of the store.
+   type :: field_t
+      character(len=8) :: name               !< dataset name in the checkpoint
+      character(len=8) :: snap               !< dataset name in the snapshot ('': not written)
+      integer :: ncomp                       !< components: ndim for a vector, 1 for a scalar
+      logical :: int                         !< an integer field
+      logical :: halo                        !< the halo copies carry it
+      logical :: history                     !< held only with the Verlet integrator
+      integer :: standin                     !< a field that is off is written as this one (0: none)
+   end type field_t
+
+   integer, parameter :: nfield = 14
+   !> The fields, reals first; the order is that of the checkpoint's checksum.
+   type(field_t), parameter :: fields(nfield) = [ &
+                               field_t('x', 'position', ndim, .false., .true., .false., 0), &
+                               field_t('v', 'velocity', ndim, .false., .true., .false., 0), &
+                               field_t('rho', 'density', 1, .false., .true., .false., 0), &
+                               field_t('p', 'pressure', 1, .false., .false., .false., 0), &
+                               field_t('mass', 'mass', 1, .false., .true., .false., 0), &
+                               field_t('nrm', '', ndim, .false., .true., .false., 0), &
+                               field_t('xb', '', ndim, .false., .true., .false., 0), &
+                               field_t('nb', '', ndim, .false., .true., .false., 0), &
+                               field_t('vm1', '', ndim, .false., .false., .true., 2), &
+                               field_t('rhom1', '', 1, .false., .false., .true., 3), &
+                               field_t('surf', '', 1, .true., .true., .false., 0), &
+                               field_t('kind', 'kind', 1, .true., .true., .false., 0), &
+                               field_t('body', 'body', 1, .true., .true., .false., 0), &
+                               field_t('id', 'id', 1, .true., .true., .false., 0)]
+
+   integer, parameter :: act_none = 0, act_alloc = 1, act_grow = 2
 
    real(rp), allocatable :: rtmp(:)          ! scratch for permutations
    integer, allocatable :: itmp(:)
-   integer, allocatable :: moved(:)          ! slots whose particle changes
+   integer, allocatable, target :: moved_own(:)   ! slots whose particle changes, when no work array is lent
 
 contains
 
-   subroutine particles_alloc(p, nmax)
-      type(particles_t), intent(inout) :: p
-      integer, intent(in) :: nmax
+   !> Field k of the store: r => its values as (components, particles) for a
+   !> real field, iv => its values for an integer field (the other pointer
+   !> is nullified).
+   subroutine particles_field(p, k, r, iv)
+      type(particles_t), target, intent(inout) :: p
+      integer, intent(in) :: k
+      real(rp), pointer, intent(out) :: r(:, :)
+      integer, pointer, intent(out) :: iv(:)
+      call field_slot(p, k, act_none, 0, 0, r, iv)
+   end subroutine particles_field
+
+   !> particles_field, after the field is allocated for n particles
+   !> (act_alloc) or grown to n keeping the first keep (act_grow). The one
+   !> place that names the fields' components.
+   subroutine field_slot(p, k, a, m, kp, r, iv)
+      type(particles_t), target, intent(inout) :: p
+      integer, intent(in) :: k, a, m, kp
+      real(rp), pointer, intent(out) :: r(:, :)
+      integer, pointer, intent(out) :: iv(:)
+      r => null()
+      iv => null()
+      select case (k)
+      case (1); call real2(p%x, a, m, kp); r => p%x
+      case (2); call real2(p%v, a, m, kp); r => p%v
+      case (3); call real1(p%rho, a, m, kp); r(1:1, 1:size(p%rho)) => p%rho
+      case (4); call real1(p%p, a, m, kp); r(1:1, 1:size(p%p)) => p%p
+      case (5); call real1(p%mass, a, m, kp); r(1:1, 1:size(p%mass)) => p%mass
+      case (6); call real2(p%nrm, a, m, kp); r => p%nrm
+      case (7); call real2(p%xb, a, m, kp); r => p%xb
+      case (8); call real2(p%nb, a, m, kp); r => p%nb
+      case (9); call real2(p%vm1, a, m, kp); r => p%vm1
+      case (10); call real1(p%rhom1, a, m, kp); r(1:1, 1:size(p%rhom1)) => p%rhom1
+      case (11); call int1(p%surf, a, m, kp); iv => p%surf
+      case (12); call int1(p%kind, a, m, kp); iv => p%kind
+      case (13); call int1(p%body, a, m, kp); iv => p%body
+      case (14); call int1(p%id, a, m, kp); iv => p%id
+      case default
+         call fatal('particles_field: no such field (internal error)')
+      end select
+   end subroutine field_slot
+
+   !> Whether the store holds field k (a field of the Verlet integrator only with it).
+   pure logical function field_on(p, k)
+      type(particles_t), intent(in) :: p
+      integer, intent(in) :: k
+      field_on = p%history .or. .not. fields(k)%history
+   end function field_on
+
+   !> Values per particle of the fields that are on (halo_only: those the halo carries).
+   pure integer function particles_width(p, halo_only) result(w)
+      type(particles_t), intent(in) :: p
+      logical, intent(in) :: halo_only
+      integer :: k
+      w = 0
+      do k = 1, nfield
+         if (.not. field_on(p, k)) cycle
+         if (halo_only .and. .not. fields(k)%halo) cycle
+         w = w + fields(k)%ncomp
+      end do
+   end function particles_width
+
+   subroutine real2(a, act, n, keep)
+      real(rp), allocatable, intent(inout) :: a(:, :)
+      integer, intent(in) :: act, n, keep
+      real(rp), allocatable :: t(:, :)
       integer :: ist
       character(len=200) :: emsg
-      if (allocated(p%x)) deallocate (p%x, p%v, p%rho, p%p, p%mass, p%nrm, p%xb, p%nb, p%vm1, p%rhom1, &
-                                      p%kind, p%body, p%id, p%surf)
-      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (p%x(ndim, nmax), p%v(ndim, nmax), p%rho(nmax), p%p(nmax), p%mass(nmax), &
-                p%nrm(ndim, nmax), p%xb(ndim, nmax), p%nb(ndim, nmax), p%vm1(ndim, nmax), p%rhom1(nmax), &
-                p%kind(nmax), p%body(nmax), p%id(nmax), p%surf(nmax), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'the particle store', nmax)
+      if (act == act_none) return
+      allocate (t(ndim, n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the particle store', n)
+      if (act == act_grow .and. keep > 0) t(:, 1:keep) = a(:, 1:keep)
+      call move_alloc(t, a)
+   end subroutine real2
+
+   subroutine real1(a, act, n, keep)
+      real(rp), allocatable, intent(inout) :: a(:)
+      integer, intent(in) :: act, n, keep
+      real(rp), allocatable :: t(:)
+      integer :: ist
+      character(len=200) :: emsg
+      if (act == act_none) return
+      allocate (t(n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the particle store', n)
+      if (act == act_grow .and. keep > 0) t(1:keep) = a(1:keep)
+      call move_alloc(t, a)
+   end subroutine real1
+
+   subroutine int1(a, act, n, keep)
+      integer, allocatable, intent(inout) :: a(:)
+      integer, intent(in) :: act, n, keep
+      integer, allocatable :: t(:)
+      integer :: ist
+      character(len=200) :: emsg
+      if (act == act_none) return
+      allocate (t(n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the particle store', n)
+      if (act == act_grow .and. keep > 0) t(1:keep) = a(1:keep)
+      call move_alloc(t, a)
+   end subroutine int1
+
+   !> Room for nmax particles, none in use; every field that is on.
+   subroutine particles_alloc(p, nmax)
+      type(particles_t), target, intent(inout) :: p
+      integer, intent(in) :: nmax
+      real(rp), pointer :: r(:, :)
+      integer, pointer :: iv(:)
+      integer :: k
+      do k = 1, nfield
+         if (field_on(p, k)) call field_slot(p, k, act_alloc, nmax, 0, r, iv)
+      end do
       p%n = 0
       p%n_own = 0
    end subroutine particles_alloc
 
    !> Make room for at least nmore further particles, keeping the contents.
    subroutine particles_grow(p, nmore)
-      type(particles_t), intent(inout) :: p
+      type(particles_t), target, intent(inout) :: p
       integer, intent(in) :: nmore
-      type(particles_t) :: q
-      integer :: cap, n
+      real(rp), pointer :: r(:, :)
+      integer, pointer :: iv(:)
+      integer :: cap, k
       cap = 0
-      if (allocated(p%x)) cap = size(p%rho)
+      if (allocated(p%x)) cap = size(p%x, 2)
       if (p%n + nmore <= cap) return
-      n = p%n
-      call particles_alloc(q, max(2*cap, n + nmore, 1024))
-      if (n > 0) then
-         q%x(:, 1:n) = p%x(:, 1:n); q%v(:, 1:n) = p%v(:, 1:n); q%rho(1:n) = p%rho(1:n)
-         q%p(1:n) = p%p(1:n); q%mass(1:n) = p%mass(1:n); q%nrm(:, 1:n) = p%nrm(:, 1:n)
-         q%xb(:, 1:n) = p%xb(:, 1:n); q%vm1(:, 1:n) = p%vm1(:, 1:n); q%rhom1(1:n) = p%rhom1(1:n)
-         q%kind(1:n) = p%kind(1:n); q%body(1:n) = p%body(1:n); q%id(1:n) = p%id(1:n)
-         q%nb(:, 1:n) = p%nb(:, 1:n); q%surf(1:n) = p%surf(1:n)
-      end if
-      q%n = n
-      q%n_own = p%n_own
-      q%n_id = p%n_id
-      call move_alloc(q%x, p%x); call move_alloc(q%v, p%v); call move_alloc(q%rho, p%rho)
-      call move_alloc(q%p, p%p); call move_alloc(q%mass, p%mass); call move_alloc(q%nrm, p%nrm)
-      call move_alloc(q%xb, p%xb); call move_alloc(q%vm1, p%vm1); call move_alloc(q%rhom1, p%rhom1)
-      call move_alloc(q%kind, p%kind); call move_alloc(q%body, p%body); call move_alloc(q%id, p%id)
-      call move_alloc(q%nb, p%nb); call move_alloc(q%surf, p%surf)
+      do k = 1, nfield
+         if (field_on(p, k)) call field_slot(p, k, act_grow, max(2*cap, p%n + nmore, 1024), p%n, r, iv)
+      end do
    end subroutine particles_grow
 
-   !> Reorder: new particle k is old particle perm(k), for k = 1..nnew (nnew <= n).
-   subroutine particles_permute(p, perm, nnew)
-      type(particles_t), intent(inout) :: p
+   !> The store cut to the particles in use: the scene's fills reserve room
+   !> by their bounds, and every per-particle work array is as large as the store.
+   subroutine particles_fit(p)
+      type(particles_t), target, intent(inout) :: p
+      real(rp), pointer :: r(:, :)
+      integer, pointer :: iv(:)
+      integer :: k
+      if (.not. allocated(p%x)) return
+      if (size(p%x, 2) == max(p%n, 1)) return
+      do k = 1, nfield
+         if (field_on(p, k)) call field_slot(p, k, act_grow, max(p%n, 1), p%n, r, iv)
+      end do
+   end subroutine particles_fit
+
+   !> Particle `from` copied into slot `to`, every field.
+   subroutine particles_copy(p, from, to)
+      type(particles_t), target, intent(inout) :: p
+      integer, intent(in) :: from, to
+      real(rp), pointer :: r(:, :)
+      integer, pointer :: iv(:)
+      integer :: k
+      do k = 1, nfield
+         if (.not. field_on(p, k)) cycle
+         call particles_field(p, k, r, iv)
+         if (fields(k)%int) then
+            iv(to) = iv(from)
+         else
+            r(:, to) = r(:, from)
+         end if
+      end do
+   end subroutine particles_copy
+
+   !> Particle i's fields that are on (halo_only: those the halo carries)
+   !> into buf(at:), integers as reals, in the table's order.
+   subroutine particles_pack(p, i, halo_only, buf, at)
+      type(particles_t), target, intent(inout) :: p
+      integer, intent(in) :: i, at
+      logical, intent(in) :: halo_only
+      real(rp), intent(inout) :: buf(:)
+      real(rp), pointer :: r(:, :)
+      integer, pointer :: iv(:)
+      integer :: k, o
+      o = at
+      do k = 1, nfield
+         if (.not. field_on(p, k)) cycle
+         if (halo_only .and. .not. fields(k)%halo) cycle
+         call particles_field(p, k, r, iv)
+         if (fields(k)%int) then
+            buf(o) = real(iv(i), rp)
+         else
+            buf(o:o + fields(k)%ncomp - 1) = r(:, i)
+         end if
+         o = o + fields(k)%ncomp
+      end do
+   end subroutine particles_pack
+
+   !> The reverse of particles_pack: buf(at:) into particle i.
+   subroutine particles_unpack(p, i, halo_only, buf, at)
+      type(particles_t), target, intent(inout) :: p
+      integer, intent(in) :: i, at
+      logical, intent(in) :: halo_only
+      real(rp), intent(in) :: buf(:)
+      real(rp), pointer :: r(:, :)
+      integer, pointer :: iv(:)
+      integer :: k, o
+      o = at
+      do k = 1, nfield
+         if (.not. field_on(p, k)) cycle
+         if (halo_only .and. .not. fields(k)%halo) cycle
+         call particles_field(p, k, r, iv)
+         if (fields(k)%int) then
+            iv(i) = nint(buf(o))
+         else
+            r(:, i) = buf(o:o + fields(k)%ncomp - 1)
+         end if
+         o = o + fields(k)%ncomp
+      end do
+   end subroutine particles_unpack
+
+   !> Reorder: new particle k is old particle perm(k), for k = 1..nnew
+   !> (nnew <= n). work, when given, is an integer array of at least nnew the caller
+   !> lends for the list of moved slots (the sort lends its cell array,
+   !> free at that point: 4 bytes a particle fewer).
+   subroutine particles_permute(p, perm, nnew, work)
+      type(particles_t), target, intent(inout) :: p
       integer, intent(in) :: perm(:), nnew
+      integer, target, intent(inout), optional :: work(:)
+      real(rp), pointer :: r(:, :)
+      integer, pointer :: iv(:), moved(:)
       integer :: d, k, nmoved
-      integer :: ist
-      character(len=200) :: emsg
       ! Between two sorts few particles change cell: perm is the identity
       ! almost everywhere. Only the moved slots are copied (their sources are
       ! the same set of slots), which keeps the sort's memory traffic
       ! proportional to the particles that moved, not to all of them.
-      if (.not. allocated(moved)) then
-         allocate (moved(size(p%rho)), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'moved in particles_permute')
-      end if
-      if (size(moved) < size(p%rho)) then
-         deallocate (moved)
-         allocate (moved(size(p%rho)), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'moved in particles_permute')
+      if (present(work)) then
+         moved => work
+      else
+         call scratch_int(moved_own, nnew)
+         moved => moved_own
       end if
       nmoved = 0
       do k = 1, nnew
@@ -104,41 +315,20 @@ contains
             moved(nmoved) = k
          end if
       end do
-      if (.not. allocated(rtmp)) then
-         allocate (rtmp(max(nmoved, 1)), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'rtmp in particles_permute')
-      end if
-      if (size(rtmp) < nmoved) then
-         deallocate (rtmp, itmp)
-         allocate (rtmp(max(nmoved, size(p%rho)/8)), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'rtmp in particles_permute')
-      end if
-      if (.not. allocated(itmp)) then
-         allocate (itmp(size(rtmp)), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'itmp in particles_permute')
-      end if
-      if (size(itmp) < size(rtmp)) then
-         deallocate (itmp)
-         allocate (itmp(size(rtmp)), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'itmp in particles_permute')
-      end if
       if (nmoved > 0) then
-         do d = 1, ndim
-            call permute_row(p%x, d)
-            call permute_row(p%v, d)
-            call permute_row(p%nrm, d)
-            call permute_row(p%xb, d)
-            call permute_row(p%nb, d)
-            call permute_row(p%vm1, d)
+         call scratch_real(rtmp, max(nmoved, size(p%x, 2)/8))
+         call scratch_int(itmp, max(nmoved, size(p%x, 2)/8))
+         do k = 1, nfield
+            if (.not. field_on(p, k)) cycle
+            call particles_field(p, k, r, iv)
+            if (fields(k)%int) then
+               call permute_int(iv)
+            else
+               do d = 1, fields(k)%ncomp
+                  call permute_row(r, d)
+               end do
+            end if
          end do
-         call permute_real(p%rho)
-         call permute_real(p%p)
-         call permute_real(p%mass)
-         call permute_real(p%rhom1)
-         call permute_int(p%kind)
-         call permute_int(p%body)
-         call permute_int(p%id)
-         call permute_int(p%surf)
       end if
       p%n = nnew
    contains
@@ -153,16 +343,6 @@ contains
             a(row, moved(m)) = rtmp(m)
          end do
       end subroutine permute_row
-      subroutine permute_real(a)
-         real(rp), intent(inout) :: a(:)
-         integer :: m
-         do m = 1, nmoved
-            rtmp(m) = a(perm(moved(m)))
-         end do
-         do m = 1, nmoved
-            a(moved(m)) = rtmp(m)
-         end do
-      end subroutine permute_real
       subroutine permute_int(a)
          integer, intent(inout) :: a(:)
          integer :: m
@@ -174,6 +354,33 @@ contains
          end do
       end subroutine permute_int
    end subroutine particles_permute
+
+   !> A scratch array of at least n values (kept between calls).
+   subroutine scratch_int(a, n)
+      integer, allocatable, intent(inout) :: a(:)
+      integer, intent(in) :: n
+      integer :: ist
+      character(len=200) :: emsg
+      if (allocated(a)) then
+         if (size(a) >= n) return
+         deallocate (a)
+      end if
+      allocate (a(max(n, 1)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the scratch of particles_permute')
+   end subroutine scratch_int
+
+   subroutine scratch_real(a, n)
+      real(rp), allocatable, intent(inout) :: a(:)
+      integer, intent(in) :: n
+      integer :: ist
+      character(len=200) :: emsg
+      if (allocated(a)) then
+         if (size(a) >= n) return
+         deallocate (a)
+      end if
+      allocate (a(max(n, 1)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the scratch of particles_permute')
+   end subroutine scratch_real
 
    !> Owned particles of kind k on this rank.
    integer function particles_count_kind(p, k) result(c)

@@ -7,9 +7,9 @@ module scene
    use input_body, only: body_cfg
    use body_shapes, only: body_outline, body_mass_properties, body_particles
    use body_dynamics, only: body_t
-   use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, wall_fixed
+   use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, wall_fixed, integ_verlet
    use input_geometry, only: geom_object
-   use particles, only: particles_t, particles_grow
+   use particles, only: particles_t, particles_grow, particles_fit
    use params, only: params_t, params_init
    use eos, only: eos_density_at_depth
    use geom, only: point_in_polygon, nearest_edge_normal, distance_to_polygon, polygon_area
@@ -41,6 +41,8 @@ contains
       dp = c%numerics%dp
       p%n = 0
       p%n_id = 0
+      ! the Verlet integrator's history fields only where it runs
+      p%history = c%numerics%integrator_id == integ_verlet
       ! bodies displace the fluid: their outlines are holes in every fluid fill
       allocate (holes(size(c%bodies)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'holes in scene_build')
@@ -70,12 +72,15 @@ contains
          ! still water: hydrostatic density below the surface, rho0 above
          ! (body particles take the density of the water they displace)
          p%rho(i) = eos_density_at_depth(prm, max(prm%y_surface - p%x(2, i), 0.0_rp))
-         p%vm1(:, i) = p%v(:, i)
-         p%rhom1(i) = p%rho(i)
+         if (p%history) then
+            p%vm1(:, i) = p%v(:, i)
+            p%rhom1(i) = p%rho(i)
+         end if
          p%p(i) = 0.0_rp
       end do
       p%n_id = p%n
       p%n_own = p%n
+      call particles_fit(p)
       if (p%n == 0) call fatal(trim(c%file)//': the case makes no particles (add &box, &polygon or &slope groups)', 2)
       if (nf == 0) call no_fluid(c, p, bodies)
    end subroutine scene_build

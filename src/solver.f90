@@ -7,7 +7,7 @@
 !> the slab edges move to even out the particle counts.
 module solver
    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
-   use kinds, only: rp, i8
+   use kinds, only: rp, i8, lk
    use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_name
    use input, only: case_cfg, write_case
    use input_check, only: int_str, real_str, approx_str
@@ -24,7 +24,7 @@ module solver
                      decomp_lo, decomp_hi
    use comm_halo, only: comm_halo_migrate, comm_halo_build, comm_halo_redistribute, comm_halo_reverse, comm_halo_forward
    use eos, only: eos_update
-   use fluid_forces, only: forces_work_t, forces_init
+   use fluid_forces, only: forces_work_t, forces_init, forces_ensure
    use kernel_correction, only: shepard_sums, shepard_apply
    use step, only: step_state_t, step_advance, step_dt_ratio
    use bc_motion, only: walls_t, walls_init, motion_apply
@@ -56,7 +56,7 @@ module solver
    type(body_t), allocatable :: bodies(:)
    type(contact_t) :: ct
    character(len=:), allocatable :: out, case_text
-   logical, allocatable :: drop(:)
+   logical(lk), allocatable :: drop(:)
    real(rp), allocatable :: scratch1(:), scratch2(:)
    integer :: n_global = 0                   !< particles on all ranks
    integer :: n_kind(4) = 0                  !< particles of each kind at the start, all ranks
@@ -157,6 +157,7 @@ contains
             call scene_build(c, made, prm_made, bodies_made)
             call checkpoint_check(c%file, out, c%numerics%dp, size(bodies), made%n)
          end block
+         p%history = c%numerics%integrator_id == integ_verlet
          call checkpoint_read(c%file, out, p, st, bodies, counts, edges, mem)
          call params_init(c, st%y_surface - st%h_swl, st%y_surface, prm)
          call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//out// &
@@ -196,8 +197,8 @@ contains
       end if
       call banner()
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (drop(size(p%rho)), scratch1(size(p%rho)), scratch2(size(p%rho)), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'drop, scratch1, scratch2 in setup')
+      allocate (drop(size(p%rho)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'drop in setup')
       ! text files are rank 0's
       if (comm_rank() == 0) call energy_open(out, c%run%restart, st%istep)
       if (c%run%restart) then
@@ -275,9 +276,9 @@ contains
       if (comm_size() > 1) then
          call comm_halo_build(p, grid_first_column_end(g))
          if (.not. grid_add_halo(g, p)) call fatal('the halo arrived out of cell order (internal error)')
-         call ensure_scratch()
       end if
       if (prm%kgc == kgc_shepard .and. mod(st%istep + 1, prm%shepard_every) == 0) then
+         call ensure_scratch()
          call shepard_sums(prm, g, p, scratch1, scratch2)
          ! the halo copies' sums to their owners, the new densities back
          call comm_halo_reverse(scratch2, p%n_own)
@@ -455,15 +456,17 @@ contains
       call comm_halo_redistribute(dc, p)
       call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h, &
                      decomp_lo(dc), decomp_hi(dc))
-      call ensure_scratch()
    end subroutine rebalance
 
-   !> Per-particle scratch arrays as large as the particle store.
+   !> The Shepard filter's sums, as large as the particle store (made at its
+   !> first use: a case without the filter holds none).
    subroutine ensure_scratch()
       integer :: ist
       character(len=200) :: emsg
-      if (size(scratch1) >= size(p%rho)) return
-      deallocate (scratch1, scratch2)
+      if (allocated(scratch1)) then
+         if (size(scratch1) >= size(p%rho)) return
+         deallocate (scratch1, scratch2)
+      end if
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (scratch1(size(p%rho)), scratch2(size(p%rho)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'scratch1, scratch2 in ensure_scratch')
@@ -479,7 +482,7 @@ contains
    subroutine remove_particles()
       integer :: i, nd, nr, cnt(2)
       real(rp) :: x, y
-      logical, allocatable :: grown(:)
+      logical(lk), allocatable :: grown(:)
       integer :: ist
       character(len=200) :: emsg
       if (size(drop) < size(p%rho)) then
@@ -584,7 +587,10 @@ contains
       real(rp) :: de
       call timer_start(t_output)
       if (snap) then
-         call eos_update(prm, p%n, p%rho, p%p, scratch1)
+         ! the pressures of the snapshot; the sound speeds into the force
+         ! work array, which the next evaluation overwrites
+         call forces_ensure(w, size(p%rho), prm)
+         call eos_update(prm, p%n, p%rho, p%p, w%cs)
          call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
          st%isnap = st%isnap + 1
          st%t_next_snap = (floor(st%t/cfg%run%dt_out + 1.0e-9_rp) + 1)*cfg%run%dt_out

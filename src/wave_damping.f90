@@ -27,7 +27,7 @@ contains
          s = min(s, 1.0_rp)
          f = exp(-d%strength*s*s*dt)
          p%v(:, i) = f*p%v(:, i)
-         p%vm1(:, i) = f*p%vm1(:, i)
+         if (p%history) p%vm1(:, i) = f*p%vm1(:, i)
       end do
    end subroutine damping_apply
 end module wave_damping

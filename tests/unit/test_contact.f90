@@ -11,7 +11,7 @@
 !>   particle centres that are not on its line, a couple of order f dp that
 !>   belongs to the discretisation.)
 program test_contact
-   use kinds, only: rp
+   use kinds, only: rp, lk
    use constants, only: kind_fixed, kind_floating
    use particles, only: particles_t, particles_alloc
    use grid, only: grid_t, grid_init, grid_sort
@@ -36,7 +36,7 @@ program test_contact
    type(contact_cfg) :: cfg
    type(contact_t) :: ct
    real(rp), allocatable :: drho(:)
-   logical, allocatable :: drop(:)
+   logical(lk), allocatable :: drop(:)
    integer :: k, m, floor_n
    logical :: with_floor
 

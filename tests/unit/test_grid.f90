@@ -21,7 +21,7 @@ end module test_grid_state
 
 program test_grid
    use test_grid_state, only: p, seen, record
-   use kinds, only: rp
+   use kinds, only: rp, lk
    use constants, only: kind_fluid, kind_fixed
    use particles, only: particles_alloc
    use grid, only: grid_t, grid_init, grid_sort, grid_visit_pairs
@@ -36,7 +36,7 @@ program test_grid
    type(params_t) :: prm
    type(forces_work_t) :: w
    type(nbr_t) :: nb
-   logical, allocatable :: drop(:)
+   logical(lk), allocatable :: drop(:)
    real(rp) :: h, r(2), d(2), gw(2), dr, a(2), err_d, err_a, scale_d, scale_a, pij, err_f
    integer :: i, j, k, nbad, nmiss, ndup, kk
    integer, parameter :: kernels(2) = [kernel_wendland, kernel_cubic]

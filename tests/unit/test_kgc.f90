@@ -2,7 +2,7 @@
 !> gradient sum_j V_j (f_j - f_i) L_i grad W_ij reproduces the gradient of a
 !> linear field to 1e-10 (relative) at every particle with full support.
 program test_kgc
-   use kinds, only: rp
+   use kinds, only: rp, lk
    use constants, only: kind_fluid
    use particles, only: particles_t, particles_alloc
    use grid, only: grid_t, grid_init, grid_sort
@@ -18,7 +18,7 @@ program test_kgc
    type(nbr_t) :: nb
    type(params_t) :: prm
    real(rp), allocatable :: lm(:, :), f(:)
-   logical, allocatable :: drop(:)
+   logical(lk), allocatable :: drop(:)
    real(rp) :: dp, r(2), d(2), gw(2), gc(2), grad(2), lmat(2, 2), worst, worst_raw, bmat(2, 2)
    real(rp), parameter :: a0 = 3.0_rp, bx = 1.7_rp, by = -0.6_rp
    integer :: i, j, k, n, kk, tested
