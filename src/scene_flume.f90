@@ -304,7 +304,10 @@ contains
       integer, intent(in) :: m
       integer, parameter :: nn = 40
       integer :: ns, a, b, k0, inside
-      real(rp) :: len, ds, s, nu
+      real(rp) :: len, ds, s, nu, ct(m), st(m)
+      ! each unit's rotation once, not once per sample point
+      ct = cos(r%tilt(1:m))
+      st = sin(r%tilt(1:m))
       len = r%sc(m) + 0.5_rp*r%foot(m) - r%s0
       ns = max(1, nint(len/(r%dn/nn)))
       ds = len/ns
@@ -318,23 +321,25 @@ contains
          end do first_near
          do b = 1, nn
             nu = (b - 0.5_rp)*r%dn/nn
-            if (in_some_unit(r, k0, min(m, k0 + 3), s, nu)) inside = inside + 1
+            if (in_some_unit(r, ct, st, k0, min(m, k0 + 3), s, nu)) inside = inside + 1
          end do
       end do
       pr = 1.0_rp - real(inside, rp)/real(ns*nn, rp)
    end function row_porosity
 
-   !> Is the point (s along the slope, nu above it) inside one of units k0..k1?
-   pure logical function in_some_unit(r, k0, k1, s, nu) result(inside)
+   !> Is the point (s along the slope, nu above it) inside one of units k0..k1
+   !> (ct, st: the cosine and sine of each unit's tilt)?
+   pure logical function in_some_unit(r, ct, st, k0, k1, s, nu) result(inside)
       type(row_t), intent(in) :: r
+      real(rp), intent(in) :: ct(:), st(:)
       integer, intent(in) :: k0, k1
       real(rp), intent(in) :: s, nu
       integer :: k
       real(rp) :: c, sn, u, v
       inside = .false.
       do k = k0, k1
-         c = cos(r%tilt(k))
-         sn = sin(r%tilt(k))
+         c = ct(k)
+         sn = st(k)
          u = c*(s - r%sc(k)) + sn*(nu - 0.5_rp*r%foot(k))
          v = -sn*(s - r%sc(k)) + c*(nu - 0.5_rp*r%foot(k))
          if (max(abs(u), abs(v)) <= 0.5_rp*r%dn) then
