@@ -72,9 +72,7 @@ contains
       type(grid_t), intent(in) :: g
       type(particles_t), intent(in) :: p
       real(rp), intent(inout) :: wsum(:), msum(:)
-      integer :: c, i, j, r, jlo(2), jhi(2)
-      real(rp) :: dx, dy, r2, q, w, hinv
-      hinv = 1.0_rp/prm%h
+      integer :: i
       do i = 1, p%n_own
          msum(i) = p%mass(i)*prm%w0
          wsum(i) = p%mass(i)/p%rho(i)*prm%w0
@@ -84,17 +82,21 @@ contains
       wsum(p%n_own + 1:p%n) = 0.0_rp
       ! one copy of the sweep per kernel: no kernel test inside the pair loop
       if (prm%kernel == kernel_cubic) then
+         call shepard_pairs_cubic(prm, g, p, wsum, msum)
+      else
+         call shepard_pairs_wendland(prm, g, p, wsum, msum)
+      end if
+   end subroutine shepard_sums
+
+#define SHEPARD_NAME shepard_pairs_cubic
 #define KFAC(q) KW_CUBIC(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "shepard_pairs.inc"
-#undef KFAC
-      else
+
+#define SHEPARD_NAME shepard_pairs_wendland
 #define KFAC(q) KW_WENDLAND(q)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "shepard_pairs.inc"
-#undef KFAC
-      end if
-   end subroutine shepard_sums
 
    !> Shepard filter, second part: rho_i = msum_i / wsum_i for the owned fluid particles.
    subroutine shepard_apply(p, wsum, msum)
