@@ -40,7 +40,8 @@ define variant # $(1)=build dir, $(2)=flags
 $(1)/obj/%.o: src/%.f90 | $(1)/obj $(1)/mod
 	$$(FC) $(2) -I$$(HDF5_INC) -Isrc -J$(1)/mod $$(XFLAGS_$$*) -c $$< -o $$@
 $(1)/obj/%.o: src/%.F90 | $(1)/obj $(1)/mod
-	$$(FC) $(2) -I$$(HDF5_INC) -Isrc -J$(1)/mod $$(XFLAGS_$$*) -c $$< -o $$@
+	$$(FC) $(2) -I$$(HDF5_INC) -Isrc -Ibuild/gen -J$(1)/mod $$(XFLAGS_$$*) -c $$< -o $$@
+$(1)/obj/fluid_forces.o: $(GEN)
 $(1)/mbsph: $(addprefix $(1)/obj/,$(addsuffix .o,$(NAMES)))
 	$$(FC) $(2) -o $$@ $$^ $$(LIBS)
 $(1)/obj/testing.o: tests/unit/testing.f90 | $(1)/obj $(1)/mod
@@ -53,6 +54,18 @@ $(1)/deps.mk: $(SRC) tools/fdeps.sh | $(1)/obj
 $(1)/obj $(1)/mod $(1)/tests:
 	mkdir -p $$@
 endef
+# code generated from a list (fypp, installed by make deps): the pair-loop variants
+FYPP := .venv/bin/fypp
+GEN  := build/gen/fluid_variants.inc build/gen/fluid_dispatch.inc
+build/gen/fluid_variants.inc: src/fluid_variants.fypp | build/gen $(FYPP)
+	$(FYPP) -DPART="'loops'" $< $@
+build/gen/fluid_dispatch.inc: src/fluid_variants.fypp | build/gen $(FYPP)
+	$(FYPP) -DPART="'dispatch'" $< $@
+$(FYPP):
+	@bash tools/deps.sh
+build/gen:
+	mkdir -p $@
+
 $(eval $(call variant,build,$(WARN) $(OPT_release)))
 $(eval $(call variant,build/debug,$(WARN) $(OPT_debug)))
 -include build/deps.mk build/debug/deps.mk

@@ -70,38 +70,25 @@ contains
    !> others a loop over the grid's stencil, which needs no list in memory.
    subroutine forces_init(prm)
       type(params_t), intent(in) :: prm
-      integer :: code
+      integer :: list, bc, kern, visc, diff, kgc, key
       ! the repulsive boundary runs without density diffusion and gradient
       ! correction (the input refuses them; doc/theory.md says why)
-      if (needs_list(prm)) then
-         code = merge(1, 0, prm%visc == visc_laminar_sps) + 2*merge(1, 0, prm%diffusion /= diff_none) + &
-                4*merge(1, 0, prm%kgc == kgc_gradient)
-         if (prm%boundary == bnd_repulsive) code = 8
-         select case (code)
-         case (1); pairs => pairs_l_b1_v2_d0_g0
-         case (3); pairs => pairs_l_b1_v2_d1_g0
-         case (4); pairs => pairs_l_b1_v1_d0_g1
-         case (5); pairs => pairs_l_b1_v2_d0_g1
-         case (6); pairs => pairs_l_b1_v1_d1_g1
-         case (7); pairs => pairs_l_b1_v2_d1_g1
-         case (8); pairs => pairs_l_b2_v2_d0_g0
-         case default  ! 0 and 2 need no list: needs_list and this table disagree
-            call fatal('forces_init: no listed pair loop for the models of code '//int_str(code))
-         end select
-      else
-         code = merge(1, 0, prm%kernel == kernel_cubic) + 2*merge(1, 0, prm%diffusion /= diff_none)
-         if (prm%boundary == bnd_repulsive) code = 4 + merge(1, 0, prm%kernel == kernel_cubic)
-         select case (code)
-         case (0); pairs => pairs_s_b1_k1_d0
-         case (1); pairs => pairs_s_b1_k2_d0
-         case (2); pairs => pairs_s_b1_k1_d1
-         case (3); pairs => pairs_s_b1_k2_d1
-         case (4); pairs => pairs_s_b2_k1
-         case (5); pairs => pairs_s_b2_k2
-         case default
-            call fatal('forces_init: no stencil pair loop for the models of code '//int_str(code))
-         end select
-      end if
+      list = merge(1, 0, needs_list(prm))
+      bc = merge(2, 1, prm%boundary == bnd_repulsive)
+      kern = 0                      ! a listed loop reads its kernel factors from the list
+      if (list == 0) kern = merge(2, 1, prm%kernel == kernel_cubic)
+      visc = merge(2, 1, prm%visc == visc_laminar_sps)
+      diff = merge(1, 0, prm%diffusion /= diff_none)
+      kgc = merge(1, 0, prm%kgc == kgc_gradient)
+      ! the key of src/fluid_variants.fypp, whose list of variants makes these cases
+      key = list*100000 + bc*10000 + kern*1000 + visc*100 + diff*10 + kgc
+      select case (key)
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "fluid_dispatch.inc"
+      case default
+         call fatal('forces_init: no pair loop for the models of key '//int_str(key)// &
+                    ' (list, boundary, kernel, viscosity, diffusion, correction): add it to src/fluid_variants.fypp')
+      end select
    end subroutine forces_init
 
    !> The models that sum over the pairs before the forces, and so share a pair list.
@@ -377,134 +364,8 @@ contains
       end do
    end subroutine sps_tau
 
-! the variants: over the grid's stencil (s) without a pass before the forces, over the pair list (l) with one
-#define PAIRS_NAME pairs_s_b1_k1_d0
-#define LIST 0
-#define BC 1
-#define KERN 1
-#define VISC 1
-#define DIFF 0
-#define KGC 0
+! the variants, generated from the list in src/fluid_variants.fypp: over the grid's stencil (s)
+! without a pass before the forces, over the pair list (l) with one
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_s_b1_k1_d1
-#define LIST 0
-#define BC 1
-#define KERN 1
-#define VISC 1
-#define DIFF 1
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_s_b2_k1
-#define LIST 0
-#define BC 2
-#define KERN 1
-#define VISC 1
-#define DIFF 0
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_s_b1_k2_d0
-#define LIST 0
-#define BC 1
-#define KERN 2
-#define VISC 1
-#define DIFF 0
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_s_b1_k2_d1
-#define LIST 0
-#define BC 1
-#define KERN 2
-#define VISC 1
-#define DIFF 1
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_s_b2_k2
-#define LIST 0
-#define BC 2
-#define KERN 2
-#define VISC 1
-#define DIFF 0
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_l_b1_v2_d0_g0
-#define LIST 1
-#define BC 1
-#define KERN 0
-#define VISC 2
-#define DIFF 0
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_l_b1_v2_d1_g0
-#define LIST 1
-#define BC 1
-#define KERN 0
-#define VISC 2
-#define DIFF 1
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_l_b1_v1_d0_g1
-#define LIST 1
-#define BC 1
-#define KERN 0
-#define VISC 1
-#define DIFF 0
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_l_b1_v2_d0_g1
-#define LIST 1
-#define BC 1
-#define KERN 0
-#define VISC 2
-#define DIFF 0
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_l_b1_v1_d1_g1
-#define LIST 1
-#define BC 1
-#define KERN 0
-#define VISC 1
-#define DIFF 1
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_l_b1_v2_d1_g1
-#define LIST 1
-#define BC 1
-#define KERN 0
-#define VISC 2
-#define DIFF 1
-#define KGC 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
-
-#define PAIRS_NAME pairs_l_b2_v2_d0_g0
-#define LIST 1
-#define BC 2
-#define KERN 0
-#define VISC 2
-#define DIFF 0
-#define KGC 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "fluid_pairs.inc"
+#include "fluid_variants.inc"
 end module fluid_forces

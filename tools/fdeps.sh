@@ -12,9 +12,26 @@ for f in "$@"; do
     [ "$m" = "$base" ] && continue
     if [ -e "src/$m.f90" ] || [ -e "src/$m.F90" ]; then deps="$deps $objdir/$m.o"; fi
   done
-  for i in $(grep -oE '^#include[[:space:]]+"[^"]+"' "$f" | sed -E 's/.*"(.*)"/\1/'); do
-    deps="$deps src/$i"
-    for j in $(grep -oE '^#include[[:space:]]+"[^"]+"' "src/$i" 2>/dev/null | sed -E 's/.*"(.*)"/\1/'); do deps="$deps src/$j"; done
+  # included files, to any depth; one that is not in src/ is generated into build/gen/ from a
+  # src/*.fypp list (Makefile), and the files those lists include count as well
+  todo=$(grep -oE '^#include[[:space:]]+"[^"]+"' "$f" | sed -E 's/.*"(.*)"/\1/' || true)
+  seen=" "
+  while [ -n "$todo" ]; do
+    next=""
+    for i in $todo; do
+      case "$seen" in *" $i "*) continue ;; esac
+      seen="$seen$i "
+      if [ -e "src/$i" ]; then
+        deps="$deps src/$i"
+        src="src/$i"
+      else
+        deps="$deps build/gen/$i"
+        src=$(ls src/*.fypp 2>/dev/null || true)
+      fi
+      [ -n "$src" ] || continue
+      next="$next $(grep -ohE '^#include[[:space:]]+"[^"]+"' $src | sed -E 's/.*"(.*)"/\1/' || true)"
+    done
+    todo=$next
   done
   echo "$objdir/$base.o:$deps"
 done

@@ -42,15 +42,19 @@ for f in "${files[@]}"; do
     fi
 done
 
-# The cpp fragments (src/*.inc) are no Fortran units of their own: lint them as the compiler
-# sees them, each .F90 expanded with its includes and switches (every variant of the pair
-# loops). Line length is checked on the fragments themselves (an expanded macro makes long
+# The cpp fragments (src/*.inc) and the code generated from src/*.fypp are no Fortran units
+# of their own: lint them as the compiler sees them, each .F90 expanded with its includes and
+# switches (every variant of the pair loops). Line length is checked on the fragments themselves (an expanded macro makes long
 # lines), and an `allow` on an #include line has nothing left to allow once it is expanded.
 if ((${#@} == 0)); then
     expanded=$(mktemp -d)
     trap 'rm -rf "$expanded"' EXIT
+    # the generated fragments as make writes them (Makefile: GEN)
+    mkdir -p "$expanded/gen"
+    .venv/bin/fypp -DPART="'loops'" src/fluid_variants.fypp "$expanded/gen/fluid_variants.inc"
+    .venv/bin/fypp -DPART="'dispatch'" src/fluid_variants.fypp "$expanded/gen/fluid_dispatch.inc"
     for f in src/*.F90; do
-        if ! gfortran -E -cpp -P -Isrc "$f" > "$expanded/$(basename "${f%.F90}").f90"; then
+        if ! gfortran -E -cpp -P -Isrc -I"$expanded/gen" "$f" > "$expanded/$(basename "${f%.F90}").f90"; then
             echo "$f:1:1: CPP the preprocessor refused it"
             status=1
         fi
