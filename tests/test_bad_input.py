@@ -606,8 +606,11 @@ def test_second_run_into_a_folder_in_use_is_refused(tmp_path: Path, mbsph: Path)
     first = subprocess.Popen([str(mbsph), CASE], cwd=first_dir, stdout=subprocess.DEVNULL,
                              stderr=subprocess.DEVNULL, stdin=subprocess.DEVNULL)
     try:
+        # its first snapshot and index written, and renamed into place (no *.tmp of its own left
+        # that it would rename itself while the second run is refused)
         for _ in range(300):
-            if (out / ".mbsph.lock").exists() and (out / "snap_00000.h5").exists():
+            if ((out / ".mbsph.lock").exists() and (out / "snap_00000.h5").exists()
+                    and (out / "particles.xmf").exists() and not list(out.glob("*.tmp"))):
                 break
             time.sleep(0.1)
         assert first.poll() is None and (out / ".mbsph.lock").exists(), "the first run holds no lock"
