@@ -16,7 +16,8 @@
 !> through the typed wrappers of comm (the only module that uses MPI).
 module comm_halo
    use kinds, only: rp, lk
-   use particles, only: particles_t, particles_grow, particles_pack, particles_unpack, particles_copy, particles_width
+   use particles, only: particles_t, particles_grow, particles_pack, particles_unpack, particles_copy, particles_width, &
+                        ensure => work_array
    use decomp, only: decomp_t, decomp_owner
    use comm, only: comm_rank, comm_size, comm_sendrecv, comm_alltoall, comm_alltoallv, comm_no_rank
    use timers, only: timer_start, timer_stop, t_comm
@@ -48,19 +49,6 @@ contains
       right = comm_no_rank
       if (comm_rank() < comm_size() - 1) right = comm_rank() + 1
    end function right
-
-   subroutine ensure(buf, n)
-      real(rp), allocatable, intent(inout) :: buf(:)
-      integer, intent(in) :: n
-      integer :: ist
-      character(len=200) :: emsg
-      if (allocated(buf)) then
-         if (size(buf) >= n) return
-         deallocate (buf)
-      end if
-      allocate (buf(max(n, 1024)), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'buf in ensure')
-   end subroutine ensure
 
    !> As ensure, keeping the contents.
    subroutine ensure_keep(buf, n)

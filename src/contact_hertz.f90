@@ -107,7 +107,7 @@ contains
          ! 2.94 dmax/|un|, dmax = (5/4 M un^2/kn)^(2/5); take 40 steps or more
          un = dot_product(p%v(:, i) - p%v(:, j), d)/sqrt(r2)
          if (un < 0.0_rp) then
-            kn = 4.0_rp/(3.0_rp*tau_pair(bodies, bi, bj))*sqrt(0.25_rp*prm%dp)
+            kn = hertz_stiffness(bodies, bi, bj, prm%dp)
             dmax = (1.25_rp*body_mass(bodies, bi, bj)*un*un/kn)**0.4_rp
             ct%dt_limit = min(ct%dt_limit, 2.94_rp*dmax/(40.0_rp*abs(un)))
          end if
@@ -147,7 +147,7 @@ contains
          n = ct%pn(:, m); overlap = ct%pw(m); k = ct%pkey(m)
          vij = p%v(:, i) - p%v(:, j)
          ul = dot_product(vij, n)
-         kn = 4.0_rp/(3.0_rp*tau_pair(bodies, bi, bj))*sqrt(0.25_rp*prm%dp)
+         kn = hertz_stiffness(bodies, bi, bj, prm%dp)
          mc = body_mass(bodies, bi, bj)
          sk = 1.5_rp*kn*sqrt(overlap)
          nn = ct%kx(:, k)/max(norm2(ct%kx(:, k)), tiny(1.0_rp))
@@ -161,4 +161,13 @@ contains
          call pair_friction(ct, bodies, p, i, j, bi, bj, n, fn, vij, [0.0_rp, 0.0_rp])
       end do
    end subroutine hertz_apply
+
+   !> Hertz stiffness kn of two particles of diameter dp of bodies bi and bj:
+   !> 4/3 sqrt(dp/4) / (tau_i + tau_j).
+   pure real(rp) function hertz_stiffness(bodies, bi, bj, dp) result(kn)
+      type(body_t), intent(in) :: bodies(:)
+      integer, intent(in) :: bi, bj
+      real(rp), intent(in) :: dp
+      kn = 4.0_rp/(3.0_rp*tau_pair(bodies, bi, bj))*sqrt(0.25_rp*dp)
+   end function hertz_stiffness
 end module contact_hertz

@@ -19,7 +19,12 @@ module particles
    private
    public :: particles_t, particles_alloc, particles_grow, particles_fit, particles_permute, particles_count_kind, &
              field_t, fields, nfield, particles_field, field_on, particles_copy, particles_pack, particles_unpack, &
-             particles_width
+             particles_width, work_array
+
+   !> A work array of at least n values, kept between calls (grown, contents not kept).
+   interface work_array
+      module procedure scratch_int, scratch_real
+   end interface work_array
 
    type :: particles_t
       integer :: n = 0                       !< particles in use: owned, then the halo
@@ -355,7 +360,7 @@ contains
       end subroutine permute_int
    end subroutine particles_permute
 
-   !> A scratch array of at least n values (kept between calls).
+   !> A work array of at least n values (kept between calls; see work_array).
    subroutine scratch_int(a, n)
       integer, allocatable, intent(inout) :: a(:)
       integer, intent(in) :: n
@@ -366,7 +371,7 @@ contains
          deallocate (a)
       end if
       allocate (a(max(n, 1)), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'the scratch of particles_permute')
+      call alloc_check(ist, emsg, 'a work array')
    end subroutine scratch_int
 
    subroutine scratch_real(a, n)
@@ -379,7 +384,7 @@ contains
          deallocate (a)
       end if
       allocate (a(max(n, 1)), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'the scratch of particles_permute')
+      call alloc_check(ist, emsg, 'a work array')
    end subroutine scratch_real
 
    !> Owned particles of kind k on this rank.
