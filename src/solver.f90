@@ -35,7 +35,7 @@ module solver
    use io_snapshot, only: snapshot_write, snapshot_index_rebuild
    use io_checkpoint, only: checkpoint_write, checkpoint_read, checkpoint_check
    use logger, only: log_open, log_close, log_line, log_progress
-   use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup
+   use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup, t_comm
    use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max, comm_allgather, comm_node_size
    use errors, only: fatal, input_error, alloc_check
    use wave_paddle, only: paddle_t, paddle_init
@@ -693,7 +693,7 @@ contains
    end subroutine progress
 
    subroutine summary()
-      real(rp) :: wall, tt, ratio(2)
+      real(rp) :: wall, tt, ratio(2), busy(comm_size())
       integer :: k, counts(comm_size()), at_step(2)
       character(len=160) :: line
       wall = comm_wtime() - st%wall0
@@ -713,6 +713,17 @@ contains
          write (line, '("ranks: ",i0,", particles per rank ",i0," to ",i0," (largest ",f0.1, &
                &" % above the mean)")') comm_size(), minval(counts), maxval(counts), &
             100.0_rp*(maxval(counts)*comm_size()/real(max(sum(counts), 1), rp) - 1.0_rp)
+         call log_line(trim(line))
+      end if
+      if (comm_size() > 1) then
+         ! the time each rank computed (all but waiting in and for messages):
+         ! ranks of equal particle counts can differ here, and the slowest sets the pace
+         busy = 0.0_rp
+         busy(comm_rank() + 1) = wall - timer_get(t_comm)
+         call comm_sum(busy)
+         write (line, '("computing time per rank (wall minus comm) ",f0.3," to ",f0.3, &
+               &" s (largest ",f0.1," % above the mean)")') minval(busy), maxval(busy), &
+            100.0_rp*(maxval(busy)*comm_size()/max(sum(busy), 1.0e-9_rp) - 1.0_rp)
          call log_line(trim(line))
       end if
       call log_line('wall time by phase [s] (rank 0):')
