@@ -4,31 +4,31 @@
 module body_dynamics
    use errors, only: alloc_check
    use kinds, only: rp
-   use constants, only: kind_floating, kind_fixed, kind_moving, pi
+   use constants, only: kind_floating, kind_fixed, kind_moving, pi, ndim
+   use rigid, only: pose_t, nrot, ndof, rigid_rotation, rigid_rotate, rigid_point_velocity, rigid_moment, &
+                    rigid_moment_add, rigid_angular_accel, rigid_inertia_inverse, rigid_turn, rigid_rot_energy
    use particles, only: particles_t
    use options, only: motion_floating, motion_prescribed
    implicit none
    private
-   public :: body_t, bodies_place, bodies_fluid_forces, &
+   public :: body_t, pose_t, nrot, ndof, bodies_place, bodies_fluid_forces, &
              bodies_damping_reset, bodies_damping_add, &
              bodies_save, bodies_predict, bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, &
              bodies_accel2, body_of, bodies_energy, bodies_pack_sums, bodies_unpack_sums, bodies_prescribe
 
 
    !> forces and torques of a body summed over the ranks: f_fluid, t_fluid, f_normal, t_normal, f_fric, t_fric
-   integer, parameter :: sums_per_body = 9
+   integer, parameter :: sums_per_body = 3*ndof
 
    type :: body_t
       integer :: motion = motion_floating
       integer :: id = 0                     !< body number carried by its particles
       real(rp) :: mass = 0.0_rp             !< [kg/m]
-      real(rp) :: inertia = 0.0_rp          !< about the centre [kg m]
-      real(rp) :: c(2) = 0.0_rp             !< centre [m]
-      real(rp) :: theta = 0.0_rp            !< angle [rad]
-      real(rp) :: v(2) = 0.0_rp             !< velocity of the centre [m/s]
-      real(rp) :: omega = 0.0_rp            !< angular velocity [rad/s]
-      real(rp) :: c_start(2) = 0.0_rp       !< centre at t = 0
-      real(rp) :: theta_start = 0.0_rp      !< angle at t = 0 (particle frame)
+      real(rp) :: inertia(nrot, nrot) = 0.0_rp  !< inertia tensor about the centre [kg m in 2D]
+      type(pose_t) :: pose                  !< centre [m] and orientation now
+      real(rp) :: v(ndim) = 0.0_rp          !< velocity of the centre [m/s]
+      real(rp) :: omega(nrot) = 0.0_rp      !< angular velocity [rad/s]
+      type(pose_t) :: pose_start            !< pose at t = 0, the frame of the particles' xb and nb
       ! prescribed motion: pose(t) = pose_start + rate t + amp sin(2 pi t / period + phase),
       ! pose = (x, y, theta)
       real(rp) :: rate(3) = 0.0_rp          !< constant rates u, v [m/s], omega [rad/s]
@@ -40,14 +40,15 @@ module body_dynamics
       real(rp) :: rbound = 0.0_rp           !< largest distance of a particle from the centre [m]
       real(rp) :: g = 9.81_rp               !< gravity [m/s2]
       ! forces and torques of the last evaluation, by source
-      real(rp) :: f_fluid(2) = 0.0_rp, t_fluid = 0.0_rp
-      real(rp) :: f_normal(2) = 0.0_rp, t_normal = 0.0_rp
-      real(rp) :: f_fric(2) = 0.0_rp, t_fric = 0.0_rp
+      real(rp) :: f_fluid(ndim) = 0.0_rp, t_fluid(nrot) = 0.0_rp
+      real(rp) :: f_normal(ndim) = 0.0_rp, t_normal(nrot) = 0.0_rp
+      real(rp) :: f_fric(ndim) = 0.0_rp, t_fric(nrot) = 0.0_rp
       ! velocity-proportional contact terms (damping, sticking friction):
       ! their sum sets the stable time step, an explicit step must stay
       ! below twice mass / coefficient
       ! state at the start of the step
-      real(rp) :: c0(2) = 0.0_rp, theta0 = 0.0_rp, v0(2) = 0.0_rp, omega0 = 0.0_rp
+      type(pose_t) :: pose0
+      real(rp) :: v0(ndim) = 0.0_rp, omega0(nrot) = 0.0_rp
       real(rp), allocatable :: outline(:, :)  !< outline in the particle frame (centre at 0)
    end type body_t
 
@@ -66,23 +67,23 @@ contains
       if (b < 1 .or. b > size(bodies)) b = 0
    end function body_of
 
-   !> Particles of every body from its pose: x = c + R(theta - theta_start) xb.
+   !> Particles of every body from its pose: x = c + R xb, R the rotation
+   !> from the pose at the start (the particles' frame) to the pose now.
    subroutine bodies_place(bodies, p)
       type(body_t), intent(in) :: bodies(:)
       type(particles_t), intent(inout) :: p
       integer :: i, b
-      real(rp) :: cs(size(bodies)), sn(size(bodies)), r(2)
+      real(rp) :: rot(ndim, ndim, size(bodies)), r(ndim)
       do b = 1, size(bodies)
-         cs(b) = cos(bodies(b)%theta - bodies(b)%theta_start)
-         sn(b) = sin(bodies(b)%theta - bodies(b)%theta_start)
+         rot(:, :, b) = rigid_rotation(bodies(b)%pose, bodies(b)%pose_start)
       end do
       do i = 1, p%n
          b = body_of(bodies, p%body(i))
          if (b == 0) cycle
-         r = [cs(b)*p%xb(1, i) - sn(b)*p%xb(2, i), sn(b)*p%xb(1, i) + cs(b)*p%xb(2, i)]
-         p%x(:, i) = bodies(b)%c + r
-         p%v(:, i) = bodies(b)%v + bodies(b)%omega*[-r(2), r(1)]
-         p%nrm(:, i) = [cs(b)*p%nb(1, i) - sn(b)*p%nb(2, i), sn(b)*p%nb(1, i) + cs(b)*p%nb(2, i)]
+         r = rigid_rotate(rot(:, :, b), p%xb(:, i))
+         p%x(:, i) = bodies(b)%pose%c + r
+         p%v(:, i) = rigid_point_velocity(bodies(b)%v, bodies(b)%omega, r)
+         p%nrm(:, i) = rigid_rotate(rot(:, :, b), p%nb(:, i))
       end do
    end subroutine bodies_place
 
@@ -93,7 +94,7 @@ contains
       type(particles_t), intent(in) :: p
       real(rp), intent(in) :: acc(:, :)
       integer :: i, b
-      real(rp) :: f(2), r(2)
+      real(rp) :: f(ndim), r(ndim)
       do b = 1, size(bodies)
          bodies(b)%f_fluid = 0.0_rp
          bodies(b)%t_fluid = 0.0_rp
@@ -102,9 +103,9 @@ contains
          if (p%kind(i) /= kind_floating) cycle
          b = body_of(bodies, p%body(i))
          f = p%mass(i)*acc(:, i)
-         r = p%x(:, i) - bodies(b)%c
+         r = p%x(:, i) - bodies(b)%pose%c
          bodies(b)%f_fluid = bodies(b)%f_fluid + f
-         bodies(b)%t_fluid = bodies(b)%t_fluid + r(1)*f(2) - r(2)*f(1)
+         call rigid_moment_add(bodies(b)%t_fluid, r, f)
       end do
    end subroutine bodies_fluid_forces
 
@@ -139,9 +140,9 @@ contains
       do b = 1, size(bodies)
          k = (b - 1)*sums_per_body
          associate (x => bodies(b))
-            x%f_fluid = buf(k + 1:k + 2); x%t_fluid = buf(k + 3)
-            x%f_normal = buf(k + 4:k + 5); x%t_normal = buf(k + 6)
-            x%f_fric = buf(k + 7:k + 8); x%t_fric = buf(k + 9)
+            x%f_fluid = buf(k + 1:k + ndim); x%t_fluid = buf(k + ndim + 1:k + ndof)
+            x%f_normal = buf(k + ndof + 1:k + ndof + ndim); x%t_normal = buf(k + ndof + ndim + 1:k + 2*ndof)
+            x%f_fric = buf(k + 2*ndof + 1:k + 2*ndof + ndim); x%t_fric = buf(k + 2*ndof + ndim + 1:k + 3*ndof)
          end associate
       end do
       if (allocated(damp)) damp = reshape(buf(sums_per_body*size(bodies) + 1:), shape(damp))
@@ -150,26 +151,26 @@ contains
    !> Linear and angular acceleration of a body from the forces of the last evaluation.
    pure subroutine accel(b, a, alpha)
       type(body_t), intent(in) :: b
-      real(rp), intent(out) :: a(2), alpha
+      real(rp), intent(out) :: a(ndim), alpha(nrot)
       a = 0.0_rp
       alpha = 0.0_rp
       if (b%motion /= motion_floating) return
       a = (b%f_fluid + b%f_normal + b%f_fric)/b%mass - [0.0_rp, b%g]
-      alpha = (b%t_fluid + b%t_normal + b%t_fric)/b%inertia
+      alpha = rigid_angular_accel(b%inertia, b%t_fluid + b%t_normal + b%t_fric)
    end subroutine accel
 
    !> Forget the damping matrix of the last evaluation (nb bodies): damp, of
-   !> size 3 nb x 3 nb (u, v, omega of each body), zero.
+   !> size ndof nb x ndof nb (velocity and angular velocity of each body), zero.
    subroutine bodies_damping_reset(damp, nb)
       real(rp), allocatable, intent(inout) :: damp(:, :)
       integer, intent(in) :: nb
       integer :: ist
       character(len=200) :: emsg
       if (allocated(damp)) then
-         if (size(damp, 1) /= 3*nb) deallocate (damp)
+         if (size(damp, 1) /= ndof*nb) deallocate (damp)
       end if
       if (.not. allocated(damp)) then
-         allocate (damp(3*nb, 3*nb), stat=ist, errmsg=emsg)
+         allocate (damp(ndof*nb, ndof*nb), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'the contact damping matrix in bodies_damping_reset')
       end if
       damp = 0.0_rp
@@ -179,38 +180,39 @@ contains
    !> body bi and point xj of body bj (0, or a body that is not floating:
    !> its velocity is given), along the unit vector e. Adds c J^T J to the
    !> damping matrix, J the rates of e . (v_i - v_j) with respect to the
-   !> floating bodies' (u, v, omega); the pair's forces stay equal and opposite.
+   !> floating bodies' velocities and angular velocities (e . (omega x r) =
+   !> omega . (r x e)); the pair's forces stay equal and opposite.
    subroutine bodies_damping_add(damp, bodies, bi, bj, xi, xj, c, e)
       real(rp), intent(inout) :: damp(:, :)
       type(body_t), intent(in) :: bodies(:)
       integer, intent(in) :: bi, bj
-      real(rp), intent(in) :: xi(2), xj(2), c, e(2)
-      real(rp) :: ji(3), jj(3)
+      real(rp), intent(in) :: xi(ndim), xj(ndim), c, e(ndim)
+      real(rp) :: ji(ndof), jj(ndof)
       integer :: oi, oj, k
       logical :: fi, fj
       fi = .false.
       fj = .false.
       if (bi > 0) fi = bodies(bi)%motion == motion_floating
       if (bj > 0) fj = bodies(bj)%motion == motion_floating
-      oi = 3*(bi - 1)
-      oj = 3*(bj - 1)
+      oi = ndof*(bi - 1)
+      oj = ndof*(bj - 1)
       if (fi) ji = rate(bodies(bi), xi)
       if (fj) jj = -rate(bodies(bj), xj)
-      do k = 1, 3
-         if (fi) damp(oi + 1:oi + 3, oi + k) = damp(oi + 1:oi + 3, oi + k) + c*ji(k)*ji
-         if (fj) damp(oj + 1:oj + 3, oj + k) = damp(oj + 1:oj + 3, oj + k) + c*jj(k)*jj
+      do k = 1, ndof
+         if (fi) damp(oi + 1:oi + ndof, oi + k) = damp(oi + 1:oi + ndof, oi + k) + c*ji(k)*ji
+         if (fj) damp(oj + 1:oj + ndof, oj + k) = damp(oj + 1:oj + ndof, oj + k) + c*jj(k)*jj
          if (fi .and. fj) then
-            damp(oi + 1:oi + 3, oj + k) = damp(oi + 1:oi + 3, oj + k) + c*jj(k)*ji
-            damp(oj + 1:oj + 3, oi + k) = damp(oj + 1:oj + 3, oi + k) + c*ji(k)*jj
+            damp(oi + 1:oi + ndof, oj + k) = damp(oi + 1:oi + ndof, oj + k) + c*jj(k)*ji
+            damp(oj + 1:oj + ndof, oi + k) = damp(oj + 1:oj + ndof, oi + k) + c*ji(k)*jj
          end if
       end do
    contains
       pure function rate(b, x) result(jv)
          type(body_t), intent(in) :: b
-         real(rp), intent(in) :: x(2)
-         real(rp) :: jv(3), r(2)
-         r = x - b%c
-         jv = [e(1), e(2), e(2)*r(1) - e(1)*r(2)]
+         real(rp), intent(in) :: x(ndim)
+         real(rp) :: jv(ndof), r(ndim)
+         r = x - b%pose%c
+         jv = [e, rigid_moment(r, e)]
       end function rate
    end subroutine bodies_damping_add
 
@@ -218,7 +220,7 @@ contains
    !> (v_start, w_start) with the forces of the last evaluation, the
    !> velocity-proportional contact forces (friction below the stick speed,
    !> contact damping: the matrix C) taken implicitly, all bodies together:
-   !>    M q_new = M q_start + step (F - C (q_new - q_eval)),  q = (u, v, omega),
+   !>    M q_new = M q_start + step (F - C (q_new - q_eval)),  q = (v, omega),
    !> q_eval the velocities the forces were evaluated at. The damping acts on
    !> the slip and approach velocities of the contact points only (a rolling
    !> body is not slowed), equal and opposite between two bodies (momentum is
@@ -228,53 +230,55 @@ contains
    subroutine implicit_velocities(bodies, damp, v_start, w_start, step, v_new, w_new)
       type(body_t), intent(in) :: bodies(:)
       real(rp), allocatable, intent(in) :: damp(:, :)
-      real(rp), intent(in) :: v_start(:, :), w_start(:), step
-      real(rp), intent(out) :: v_new(:, :), w_new(:)
+      real(rp), intent(in) :: v_start(:, :), w_start(:, :), step
+      real(rp), intent(out) :: v_new(:, :), w_new(:, :)
       real(rp), allocatable :: a(:, :), r(:), q(:)
-      real(rp) :: acc(2), alpha, minv(3)
+      real(rp) :: acc(ndim), alpha(nrot), iinv(nrot, nrot)
       integer :: nb, b, o, k
       integer :: ist
       character(len=200) :: emsg
       nb = size(bodies)
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (a(3*nb, 3*nb), r(3*nb), q(3*nb), stat=ist, errmsg=emsg)
+      allocate (a(ndof*nb, ndof*nb), r(ndof*nb), q(ndof*nb), stat=ist, errmsg=emsg)
       if (ist /= 0) then  ! error stop: the compiler cannot know alloc_check stops
          call alloc_check(ist, emsg, 'a, r, q in implicit_velocities')
          error stop
       end if
       a = 0.0_rp
       if (allocated(damp)) then
-         if (size(damp, 1) == 3*nb) a = step*damp
+         if (size(damp, 1) == ndof*nb) a = step*damp
       end if
       do b = 1, nb
-         o = 3*(b - 1)
+         o = ndof*(b - 1)
          call accel(bodies(b), acc, alpha)
-         q(o + 1:o + 3) = [bodies(b)%v, bodies(b)%omega]
-         r(o + 1:o + 3) = [v_start(:, b) + step*acc, w_start(b) + step*alpha]
+         q(o + 1:o + ndof) = [bodies(b)%v, bodies(b)%omega]
+         r(o + 1:o + ndof) = [v_start(:, b) + step*acc, w_start(:, b) + step*alpha]
       end do
       r = r + matmul(scaled(a), q)
       a = scaled(a)
-      do k = 1, 3*nb
+      do k = 1, ndof*nb
          a(k, k) = a(k, k) + 1.0_rp
       end do
       call gauss_solve(a, r)
       do b = 1, nb
-         o = 3*(b - 1)
-         v_new(:, b) = r(o + 1:o + 2)
-         w_new(b) = r(o + 3)
+         o = ndof*(b - 1)
+         v_new(:, b) = r(o + 1:o + ndim)
+         w_new(:, b) = r(o + ndim + 1:o + ndof)
       end do
    contains
-      !> Rows divided by the body's mass or moment of inertia.
+      !> M^-1 c: the rows of a body's velocity divided by its mass, those of
+      !> its angular velocity multiplied by the inverse of its inertia tensor.
       function scaled(c) result(m)
          real(rp), intent(in) :: c(:, :)
          real(rp) :: m(size(c, 1), size(c, 2))
-         integer :: bb, oo
+         integer :: bb, oo, d
          do bb = 1, nb
-            oo = 3*(bb - 1)
-            minv = [1.0_rp/bodies(bb)%mass, 1.0_rp/bodies(bb)%mass, 1.0_rp/bodies(bb)%inertia]
-            m(oo + 1, :) = c(oo + 1, :)*minv(1)
-            m(oo + 2, :) = c(oo + 2, :)*minv(2)
-            m(oo + 3, :) = c(oo + 3, :)*minv(3)
+            oo = ndof*(bb - 1)
+            do d = 1, ndim
+               m(oo + d, :) = c(oo + d, :)*(1.0_rp/bodies(bb)%mass)
+            end do
+            iinv = rigid_inertia_inverse(bodies(bb)%inertia)
+            m(oo + ndim + 1:oo + ndof, :) = matmul(iinv, c(oo + ndim + 1:oo + ndof, :))
          end do
       end function scaled
    end subroutine implicit_velocities
@@ -311,11 +315,11 @@ contains
    real(rp) function bodies_accel2(bodies) result(a2)
       type(body_t), intent(in) :: bodies(:)
       integer :: b
-      real(rp) :: a(2), alpha
+      real(rp) :: a(ndim), alpha(nrot)
       a2 = 0.0_rp
       do b = 1, size(bodies)
          call accel(bodies(b), a, alpha)
-         a2 = max(a2, (norm2(a) + abs(alpha)*bodies(b)%rbound)**2)
+         a2 = max(a2, (norm2(a) + norm2(alpha)*bodies(b)%rbound)**2)
       end do
    end function bodies_accel2
 
@@ -323,8 +327,7 @@ contains
       type(body_t), intent(inout) :: bodies(:)
       integer :: b
       do b = 1, size(bodies)
-         bodies(b)%c0 = bodies(b)%c
-         bodies(b)%theta0 = bodies(b)%theta
+         bodies(b)%pose0 = bodies(b)%pose
          bodies(b)%v0 = bodies(b)%v
          bodies(b)%omega0 = bodies(b)%omega
       end do
@@ -336,15 +339,14 @@ contains
       real(rp), allocatable, intent(in) :: damp(:, :)  !< contact damping (bodies_damping_add)
       real(rp), intent(in) :: hdt
       integer :: b
-      real(rp) :: vn(2, size(bodies)), wn(size(bodies))
-      call implicit_velocities(bodies, damp, reshape([(bodies(b)%v, b=1, size(bodies))], [2, size(bodies)]), &
-                               bodies(:)%omega, hdt, vn, wn)
+      real(rp) :: vn(ndim, size(bodies)), wn(nrot, size(bodies))
+      call implicit_velocities(bodies, damp, velocities(bodies), angular_velocities(bodies), hdt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
-         bodies(b)%c = bodies(b)%c + hdt*bodies(b)%v
-         bodies(b)%theta = bodies(b)%theta + hdt*bodies(b)%omega
+         bodies(b)%pose%c = bodies(b)%pose%c + hdt*bodies(b)%v
+         call rigid_turn(bodies(b)%pose, bodies(b)%omega, hdt)
          bodies(b)%v = vn(:, b)
-         bodies(b)%omega = wn(b)
+         bodies(b)%omega = wn(:, b)
       end do
    end subroutine bodies_predict
 
@@ -354,15 +356,15 @@ contains
       real(rp), allocatable, intent(in) :: damp(:, :)  !< contact damping (bodies_damping_add)
       real(rp), intent(in) :: dt
       integer :: b
-      real(rp) :: vn(2, size(bodies)), wn(size(bodies))
-      call implicit_velocities(bodies, damp, reshape([(bodies(b)%v0, b=1, size(bodies))], [2, size(bodies)]), &
-                               bodies(:)%omega0, dt, vn, wn)
+      real(rp) :: vn(ndim, size(bodies)), wn(nrot, size(bodies))
+      call implicit_velocities(bodies, damp, velocities(bodies, start=.true.), &
+                               angular_velocities(bodies, start=.true.), dt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
          bodies(b)%v = vn(:, b)
-         bodies(b)%omega = wn(b)
-         bodies(b)%c = bodies(b)%c + 0.5_rp*dt*bodies(b)%v
-         bodies(b)%theta = bodies(b)%theta + 0.5_rp*dt*bodies(b)%omega
+         bodies(b)%omega = wn(:, b)
+         bodies(b)%pose%c = bodies(b)%pose%c + 0.5_rp*dt*bodies(b)%v
+         call rigid_turn(bodies(b)%pose, bodies(b)%omega, 0.5_rp*dt)
       end do
    end subroutine bodies_correct_symplectic
 
@@ -373,15 +375,16 @@ contains
       real(rp), allocatable, intent(in) :: damp(:, :)  !< contact damping (bodies_damping_add)
       real(rp), intent(in) :: dt
       integer :: b
-      real(rp) :: vh(2, size(bodies)), wh(size(bodies))
-      call implicit_velocities(bodies, damp, reshape([(bodies(b)%v0, b=1, size(bodies))], [2, size(bodies)]), &
-                               bodies(:)%omega0, 0.5_rp*dt, vh, wh)
+      real(rp) :: vh(ndim, size(bodies)), wh(nrot, size(bodies))
+      call implicit_velocities(bodies, damp, velocities(bodies, start=.true.), &
+                               angular_velocities(bodies, start=.true.), 0.5_rp*dt, vh, wh)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
-         bodies(b)%c = bodies(b)%c0 + dt*vh(:, b)
-         bodies(b)%theta = bodies(b)%theta0 + dt*wh(b)
+         bodies(b)%pose = bodies(b)%pose0
+         bodies(b)%pose%c = bodies(b)%pose0%c + dt*vh(:, b)
+         call rigid_turn(bodies(b)%pose, wh(:, b), dt)
          bodies(b)%v = 2.0_rp*vh(:, b) - bodies(b)%v0
-         bodies(b)%omega = 2.0_rp*wh(b) - bodies(b)%omega0
+         bodies(b)%omega = 2.0_rp*wh(:, b) - bodies(b)%omega0
       end do
    end subroutine bodies_correct_pc
 
@@ -392,18 +395,47 @@ contains
       real(rp), allocatable, intent(in) :: damp(:, :)  !< contact damping (bodies_damping_add)
       real(rp), intent(in) :: dt
       integer :: b
-      real(rp) :: a(2), alpha, vn(2, size(bodies)), wn(size(bodies))
-      call implicit_velocities(bodies, damp, reshape([(bodies(b)%v, b=1, size(bodies))], [2, size(bodies)]), &
-                               bodies(:)%omega, dt, vn, wn)
+      real(rp) :: a(ndim), alpha(nrot), vn(ndim, size(bodies)), wn(nrot, size(bodies))
+      call implicit_velocities(bodies, damp, velocities(bodies), angular_velocities(bodies), dt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
          call accel(bodies(b), a, alpha)
-         bodies(b)%c = bodies(b)%c + dt*bodies(b)%v + 0.5_rp*dt*dt*a
-         bodies(b)%theta = bodies(b)%theta + dt*bodies(b)%omega + 0.5_rp*dt*dt*alpha
+         bodies(b)%pose%c = bodies(b)%pose%c + dt*bodies(b)%v + 0.5_rp*dt*dt*a
+         ! turned by omega dt, then by alpha dt^2/2 (the sum of the angles in 2D)
+         call rigid_turn(bodies(b)%pose, bodies(b)%omega, dt)
+         call rigid_turn(bodies(b)%pose, alpha, 0.5_rp*dt*dt)
          bodies(b)%v = vn(:, b)
-         bodies(b)%omega = wn(b)
+         bodies(b)%omega = wn(:, b)
       end do
    end subroutine bodies_verlet
+
+   !> The velocities of the bodies' centres, now or at the start of the step.
+   pure function velocities(bodies, start) result(v)
+      type(body_t), intent(in) :: bodies(:)
+      logical, intent(in), optional :: start
+      real(rp) :: v(ndim, size(bodies))
+      integer :: b
+      do b = 1, size(bodies)
+         v(:, b) = bodies(b)%v
+         if (present(start)) then
+            if (start) v(:, b) = bodies(b)%v0
+         end if
+      end do
+   end function velocities
+
+   !> The angular velocities of the bodies, now or at the start of the step.
+   pure function angular_velocities(bodies, start) result(w)
+      type(body_t), intent(in) :: bodies(:)
+      logical, intent(in), optional :: start
+      real(rp) :: w(nrot, size(bodies))
+      integer :: b
+      do b = 1, size(bodies)
+         w(:, b) = bodies(b)%omega
+         if (present(start)) then
+            if (start) w(:, b) = bodies(b)%omega0
+         end if
+      end do
+   end function angular_velocities
 
    !> Pose and velocities of the prescribed bodies at time t, from their
    !> function of time (the integrators step only the floating ones), so a
@@ -425,10 +457,13 @@ contains
                s = sin(w*t + x%phase)
                co = cos(w*t + x%phase)
             end if
-            x%c = x%c_start + x%rate(1:2)*t + x%amp(1:2)*s
-            x%theta = x%theta_start + x%rate(3)*t + x%amp(3)*s
-            x%v = x%rate(1:2) + x%amp(1:2)*w*co
-            x%omega = x%rate(3) + x%amp(3)*w*co
+            x%pose = x%pose_start
+            x%pose%c = x%pose_start%c + x%rate(1:ndim)*t + x%amp(1:ndim)*s
+            ! turned by rate t, then by amp sin(...) (the angle's sum in this order in 2D)
+            call rigid_turn(x%pose, x%rate(ndim + 1:ndof), t)
+            call rigid_turn(x%pose, x%amp(ndim + 1:ndof), s)
+            x%v = x%rate(1:ndim) + x%amp(1:ndim)*w*co
+            x%omega = x%rate(ndim + 1:ndof) + x%amp(ndim + 1:ndof)*w*co
          end associate
       end do
    end subroutine bodies_prescribe
@@ -442,8 +477,8 @@ contains
       epot = 0.0_rp
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
-         ekin = ekin + 0.5_rp*bodies(b)%mass*sum(bodies(b)%v**2) + 0.5_rp*bodies(b)%inertia*bodies(b)%omega**2
-         epot = epot + bodies(b)%mass*bodies(b)%g*bodies(b)%c(2)
+         ekin = ekin + 0.5_rp*bodies(b)%mass*sum(bodies(b)%v**2) + rigid_rot_energy(bodies(b)%inertia, bodies(b)%omega)
+         epot = epot + bodies(b)%mass*bodies(b)%g*bodies(b)%pose%c(ndim)
       end do
    end subroutine bodies_energy
 end module body_dynamics

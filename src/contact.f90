@@ -17,6 +17,7 @@ module contact
    use grid, only: grid_t, grid_ranges
    use particles, only: particles_t
    use body_dynamics, only: body_t, body_of, bodies_damping_reset
+   use rigid, only: rigid_point_velocity
    use input_body, only: contact_cfg
    use options, only: model_dynamic, model_repulsive, model_noncohesive, &
                       model_spring, model_hertz, motion_floating, motion_fixed
@@ -187,7 +188,7 @@ contains
       ! deep overlap (a prescribed body's velocity is that of its function)
       do k = 1, size(bodies)
          if (bodies(k)%motion == motion_fixed) cycle
-         ct%dt_motion = min(ct%dt_motion, prm%cfl*prm%h/max(norm2(bodies(k)%v) + abs(bodies(k)%omega)* &
+         ct%dt_motion = min(ct%dt_motion, prm%cfl*prm%h/max(norm2(bodies(k)%v) + norm2(bodies(k)%omega)* &
                                                              bodies(k)%rbound, tiny(1.0_rp)))
       end do
    end subroutine contact_apply
@@ -240,7 +241,7 @@ contains
          integer :: b
          b = body_of(bodies, id)
          if (b > 0) then
-            v = bodies(b)%v + bodies(b)%omega*[-(xc(2) - bodies(b)%c(2)), xc(1) - bodies(b)%c(1)]
+            v = rigid_point_velocity(bodies(b)%v, bodies(b)%omega, xc - bodies(b)%pose%c)
          else
             v = ct%kv(:, k)/ct%kw(k)
          end if
@@ -290,7 +291,7 @@ contains
          near: do b = 1, size(bodies)
             if (bodies(b)%motion /= motion_floating) cycle near
             reach = bodies(b)%rbound + 2.0_rp*prm%h + prm%dp
-            if (sum((p%x(:, i) - bodies(b)%c)**2) < reach**2) then
+            if (sum((p%x(:, i) - bodies(b)%pose%c)**2) < reach**2) then
                ct%cand(i) = .true.
                exit near
             end if

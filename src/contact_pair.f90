@@ -7,6 +7,7 @@ module contact_pair
    use kinds, only: rp
    use particles, only: particles_t
    use body_dynamics, only: body_t, bodies_damping_add
+   use rigid, only: rigid_moment_add, rigid_moment_sub, rigid_point_velocity
    use options, only: motion_floating
    use contact_state, only: contact_t
    implicit none
@@ -26,23 +27,23 @@ contains
       logical, intent(in) :: normal
       real(rp) :: r(2)
       if (bi > 0) then
-         r = p%x(:, i) - bodies(bi)%c
+         r = p%x(:, i) - bodies(bi)%pose%c
          if (normal) then
             bodies(bi)%f_normal = bodies(bi)%f_normal + f
-            bodies(bi)%t_normal = bodies(bi)%t_normal + r(1)*f(2) - r(2)*f(1)
+            call rigid_moment_add(bodies(bi)%t_normal, r, f)
          else
             bodies(bi)%f_fric = bodies(bi)%f_fric + f
-            bodies(bi)%t_fric = bodies(bi)%t_fric + r(1)*f(2) - r(2)*f(1)
+            call rigid_moment_add(bodies(bi)%t_fric, r, f)
          end if
       end if
       if (bj > 0) then
-         r = p%x(:, j) - bodies(bj)%c
+         r = p%x(:, j) - bodies(bj)%pose%c
          if (normal) then
             bodies(bj)%f_normal = bodies(bj)%f_normal - f
-            bodies(bj)%t_normal = bodies(bj)%t_normal - (r(1)*f(2) - r(2)*f(1))
+            call rigid_moment_sub(bodies(bj)%t_normal, r, f)
          else
             bodies(bj)%f_fric = bodies(bj)%f_fric - f
-            bodies(bj)%t_fric = bodies(bj)%t_fric - (r(1)*f(2) - r(2)*f(1))
+            call rigid_moment_sub(bodies(bj)%t_fric, r, f)
          end if
       end if
    end subroutine pair_force
@@ -93,7 +94,7 @@ contains
       real(rp), intent(in) :: x(2)
       real(rp) :: v(2)
       if (b > 0) then
-         v = bodies(b)%v + bodies(b)%omega*[-(x(2) - bodies(b)%c(2)), x(1) - bodies(b)%c(1)]
+         v = rigid_point_velocity(bodies(b)%v, bodies(b)%omega, x - bodies(b)%pose%c)
       else
          v = p%v(:, own)
       end if

@@ -5,6 +5,7 @@ module io_bodies
    use constants, only: msg_len
    use io_files, only: csv_rows_until, csv_flush
    use body_dynamics, only: body_t
+   use rigid, only: rigid_angle
    use errors, only: fatal
    implicit none
    private
@@ -44,9 +45,9 @@ contains
       if (.not. opened) return
       do b = 1, size(bodies)
          associate (x => bodies(b))
-            write (unit_, '(es23.15e3,",",i0,19(",",es23.15e3))') t, b, x%c, x%theta, x%v, x%omega, &
+            write (unit_, '(es23.15e3,",",i0,19(",",es23.15e3))') t, b, x%pose%c, x%pose%theta, x%v, x%omega, &
                x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric, 0.0_rp, -x%mass*x%g, &
-               norm2(x%c - x%c_start), x%theta - x%theta_start
+               norm2(x%pose%c - x%pose_start%c), rigid_angle(x%pose, x%pose_start)
          end associate
       end do
       call csv_flush(unit_, 'bodies.csv')

@@ -94,7 +94,7 @@ contains
          allocate (bs(6, size(bodies)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'bs in checkpoint_write')
          do b = 1, size(bodies)
-            bs(:, b) = [bodies(b)%c, bodies(b)%theta, bodies(b)%v, bodies(b)%omega]
+            bs(:, b) = [bodies(b)%pose%c, bodies(b)%pose%theta, bodies(b)%v, bodies(b)%omega]
          end do
          call h5_write(f, 'bodies', bs)
       end if
@@ -196,10 +196,10 @@ contains
          call alloc_check(ist, emsg, 'bs in checkpoint_read')
          call h5_read(f, 'bodies', bs)
          do b = 1, size(bodies)
-            bodies(b)%c = bs(1:2, b)
-            bodies(b)%theta = bs(3, b)
+            bodies(b)%pose%c = bs(1:2, b)
+            bodies(b)%pose%theta = bs(3, b)
             bodies(b)%v = bs(4:5, b)
-            bodies(b)%omega = bs(6, b)
+            bodies(b)%omega = bs(6:6, b)
          end do
       end if
       if (h5_exists(f, 'contact_memory')) then

@@ -4,7 +4,7 @@
 !> order; on several, readers order by the /id dataset (post/io.py does).
 module io_snapshot
    use kinds, only: rp
-   use constants, only: msg_len
+   use constants, only: msg_len, ndim
    use particles, only: particles_t, particles_field, field_on, fields, nfield
    use params, only: params_t
    use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_write_part, h5_attr_write, &
@@ -13,6 +13,7 @@ module io_snapshot
    use io_files, only: snap_name, file_exists
    use errors, only: fatal, alloc_check
    use body_dynamics, only: body_t
+   use rigid, only: rigid_rotation, rigid_rotate
    implicit none
    private
    public :: snapshot_write, snapshot_index_rebuild
@@ -134,7 +135,7 @@ contains
       integer :: b, k, m, nv
       integer, allocatable :: start(:)
       real(rp), allocatable :: xy(:, :), pose(:, :)
-      real(rp) :: cs, sn
+      real(rp) :: rot(ndim, ndim)
       integer :: ist
       character(len=200) :: emsg
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
@@ -148,15 +149,13 @@ contains
       call alloc_check(ist, emsg, 'xy in write_outlines')
       m = 0
       do b = 1, size(bodies)
-         cs = cos(bodies(b)%theta - bodies(b)%theta_start)
-         sn = sin(bodies(b)%theta - bodies(b)%theta_start)
+         rot = rigid_rotation(bodies(b)%pose, bodies(b)%pose_start)
          nv = size(bodies(b)%outline, 2)
          do k = 1, nv
             m = m + 1
-            xy(:, m) = bodies(b)%c + [cs*bodies(b)%outline(1, k) - sn*bodies(b)%outline(2, k), &
-                                      sn*bodies(b)%outline(1, k) + cs*bodies(b)%outline(2, k)]
+            xy(:, m) = bodies(b)%pose%c + rigid_rotate(rot, bodies(b)%outline(:, k))
          end do
-         pose(:, b) = [bodies(b)%c(1), bodies(b)%c(2), bodies(b)%theta]
+         pose(:, b) = [bodies(b)%pose%c(1), bodies(b)%pose%c(2), bodies(b)%pose%theta]
       end do
       call h5_write(f, 'body_outline', xy)
       call h5_write(f, 'body_outline_start', start)

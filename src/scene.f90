@@ -147,16 +147,15 @@ contains
       integer, allocatable :: surf(:)
       integer :: k, m
       real(rp), parameter :: deg = 3.14159265358979323846_rp/180.0_rp
-      call body_mass_properties(bc, b%mass, b%c, b%inertia)
+      call body_mass_properties(bc, b%mass, b%pose%c, b%inertia(1, 1))
       call body_particles(bc, dp, layers, xb, nb, surf)
       b%motion = bc%motion_id  ! the values of options: motion_floating, motion_fixed, motion_prescribed
       b%id = id
-      b%c_start = b%c
-      b%theta = bc%angle*deg
-      b%theta_start = b%theta
+      b%pose%theta = bc%angle*deg
+      b%pose_start = b%pose
       if (b%motion /= motion_fixed) then
          b%v = [bc%u, bc%v]
-         b%omega = bc%omega
+         b%omega = [bc%omega]
       end if
       if (b%motion == motion_prescribed) then
          b%rate = [bc%u, bc%v, bc%omega]
@@ -172,7 +171,7 @@ contains
       b%rbound = maxval(norm2(xb, dim=1)) + 0.5_rp*dp
       b%outline = body_outline(bc)
       do k = 1, size(b%outline, 2)
-         b%outline(:, k) = b%outline(:, k) - b%c
+         b%outline(:, k) = b%outline(:, k) - b%pose%c
       end do
       if (.not. present(p)) return
       m = size(surf)
@@ -182,7 +181,7 @@ contains
          p%xb(:, p%n) = xb(:, k)
          p%nb(:, p%n) = nb(:, k)
          p%nrm(:, p%n) = nb(:, k)
-         p%x(:, p%n) = b%c + xb(:, k)
+         p%x(:, p%n) = b%pose%c + xb(:, k)
          p%surf(p%n) = surf(k)
          p%body(p%n) = id
          select case (b%motion)

@@ -89,9 +89,9 @@ contains
       do b = 1, 3
          bodies(b)%id = b
          bodies(b)%motion = motion_floating
-         bodies(b)%c = c(:, b)
+         bodies(b)%pose%c = c(:, b)
          bodies(b)%v = v(:, b)
-         bodies(b)%omega = om(b)
+         bodies(b)%omega = [om(b)]
          bodies(b)%mass = 1.0_rp + b
          bodies(b)%m_surf = bodies(b)%mass/(4*(ns - 1))
          bodies(b)%mu = 0.6_rp
@@ -137,7 +137,7 @@ contains
       p%p(p%n) = 500.0_rp + 10.0_rp*mod(p%n, 7)
       if (b > 0) then
          p%kind(p%n) = kind_floating
-         p%v(:, p%n) = bodies(b)%v + bodies(b)%omega*[-(x(2) - bodies(b)%c(2)), x(1) - bodies(b)%c(1)]
+         p%v(:, p%n) = bodies(b)%v + bodies(b)%omega(1)*[-(x(2) - bodies(b)%pose%c(2)), x(1) - bodies(b)%pose%c(1)]
       else
          p%kind(p%n) = kind_fixed
          p%v(:, p%n) = 0.0_rp
