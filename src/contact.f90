@@ -18,16 +18,16 @@ module contact
    use particles, only: particles_t
    use body_dynamics, only: body_t, body_of, bodies_damping_reset
    use rigid, only: rigid_point_velocity
-   use input_body, only: contact_cfg
    use options, only: model_dynamic, model_repulsive, model_noncohesive, &
                       model_spring, model_hertz, motion_floating, motion_fixed
-   use contact_state, only: contact_t, key_index, store_candidate, contact_memory_set
+   use contact_state, only: contact_t, contact_settings_t, key_index, store_candidate, contact_memory_set
    use contact_dbc, only: dbc_pairs
    use contact_eq, only: eq_gather, eq_apply
    use contact_hertz, only: tsuji_table, hertz_gather, hertz_apply
    implicit none
    private
-   public :: contact_t, contact_init, contact_sweep, contact_keys_shared, contact_keys_pack, contact_keys_unpack, &
+   public :: contact_t, contact_settings_t, contact_init, contact_sweep, contact_keys_shared, contact_keys_pack, &
+             contact_keys_unpack, &
              contact_apply, contact_memory_advance, contact_memory_get, contact_memory_set
 
    !> numbers per contact in a packed table: two ids, kx(2), kw, kt(3), kv(2)
@@ -35,29 +35,26 @@ module contact
 
 contains
 
-   subroutine contact_init(cfg, prm, coef, ct)
-      type(contact_cfg), intent(in) :: cfg
+   !> The contact state of a run from the model's settings cs.
+   subroutine contact_init(cs, prm, ct)
+      type(contact_settings_t), intent(in) :: cs
       type(params_t), intent(in) :: prm
-      real(rp), intent(in) :: coef
       type(contact_t), intent(out) :: ct
-      real(rp) :: b
-      ct%model = cfg%model_id
-      b = cfg%b
-      if (b <= 0.0_rp) b = coef
-      ct%k10b2 = (10.0_rp/b)**2
+      ct%model = cs%model
+      ct%k10b2 = (10.0_rp/cs%b)**2
       ! default c0 = B sqrt(g h): the static term (10/B)^2 0.005 c0^2 / h equals
       ! g/2, so that a body resting on a face carries its weight inside the
       ! barrier of R, where the contact is stiff enough that a coarse cube does
       ! not tip over on its own compliance (doc/contact.md)
-      ct%c = cfg%c0
+      ct%c = cs%c0
       if (ct%c <= 0.0_rp) ct%c = sqrt(0.5_rp*max(prm%g, 1.0e-3_rp)*prm%h/(0.005_rp*ct%k10b2))
-      ct%r_f = cfg%r_f
-      ct%q0 = cfg%q0
+      ct%r_f = cs%r_f
+      ct%q0 = cs%q0
       ! q_b = barrier dp/(8h): with the default 2, the touching q_t = dp/(4h)
-      ct%qb = cfg%barrier*0.125_rp*prm%dp/prm%h
-      ct%v_stick = cfg%stick_velocity
-      ct%xi_max = cfg%stick_length*prm%dp
-      ct%k_imp = cfg%impact
+      ct%qb = cs%barrier*0.125_rp*prm%dp/prm%h
+      ct%v_stick = cs%stick_velocity
+      ct%xi_max = cs%stick_length*prm%dp
+      ct%k_imp = cs%impact
       if (ct%model == model_hertz) call tsuji_table(ct)
    end subroutine contact_init
 

@@ -9,7 +9,22 @@ module contact_state
    use options, only: model_spring
    implicit none
    private
-   public :: contact_t, key_index, store_pair, store_candidate, contact_memory_set
+   public :: contact_t, contact_settings_t, key_index, store_pair, store_candidate, contact_memory_set
+
+   !> The contact model a case chooses and its coefficients, as the scene
+   !> builder hands them over (doc/contact.md); contact_init derives the
+   !> state of contact_t from them.
+   type :: contact_settings_t
+      integer :: model = model_spring
+      real(rp) :: b = 10.0_rp                !< sound coefficient B of Eq. 4-6 [-]
+      real(rp) :: c0 = 0.0_rp                !< reference speed of Eq. 4-6 (0: from the static load) [m/s]
+      real(rp) :: r_f = 0.5_rp               !< damping coefficient r_f of Eq. 4-6 [-]
+      real(rp) :: q0 = 0.001_rp              !< regularisation of 1/sqrt(q) [-]
+      real(rp) :: barrier = 2.0_rp           !< barrier of R in units of dp/(8h) [-]; 0: off
+      real(rp) :: stick_velocity = 1.0e-3_rp  !< slip speed below which friction is proportional [m/s]
+      real(rp) :: stick_length = 0.01_rp     !< slip of the friction spring at mu f_n, in dp [-]; 0: off
+      real(rp) :: impact = 20.0_rp           !< K of the approach term of eps (Eq. 2) [-]; 0: off
+   end type contact_settings_t
 
    type :: contact_t
       integer :: model = model_spring

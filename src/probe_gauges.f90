@@ -9,7 +9,6 @@ module probe_gauges
    use kinds, only: rp
    use constants, only: kind_fluid, msg_len
    use io_files, only: csv_rows_until, csv_flush
-   use input_wave, only: gauge_cfg
    use params, only: params_t
    use grid, only: grid_t, grid_column, grid_cell
    use particles, only: particles_t
@@ -18,10 +17,13 @@ module probe_gauges
    use options, only: gauge_elevation
    implicit none
    private
-   public :: gauges_t, gauges_open, gauges_sums, gauges_values, gauges_write, gauges_close
+   public :: gauges_t, gauges_init, gauges_count, gauges_open, gauges_sums, gauges_values, gauges_write, gauges_close
 
-   !> The gauges' file (open on rank 0 only) and the scratch of a sample.
+   !> The gauges (kind and position of each), their file (open on rank 0
+   !> only) and the scratch of a sample.
    type :: gauges_t
+      integer, allocatable :: kind(:)      !< gauge_elevation or gauge_pressure (options)
+      real(rp), allocatable :: x(:), y(:)  !< position [m] (y: pressure gauges only)
       integer :: unit = 0
       logical :: opened = .false.
       integer :: ny = 0                    !< heights sampled per elevation gauge
@@ -31,12 +33,28 @@ module probe_gauges
 
 contains
 
+   !> The gauges of a run: their kinds (the values of options) and positions.
+   subroutine gauges_init(gt, kinds, x, y)
+      type(gauges_t), intent(out) :: gt
+      integer, intent(in) :: kinds(:)
+      real(rp), intent(in) :: x(:), y(:)
+      gt%kind = kinds
+      gt%x = x
+      gt%y = y
+   end subroutine gauges_init
+
+   !> How many gauges the run has.
+   pure integer function gauges_count(gt) result(n)
+      type(gauges_t), intent(in) :: gt
+      n = 0
+      if (allocated(gt%kind)) n = size(gt%kind)
+   end function gauges_count
+
    !> A new file with the gauge table in '#' lines and the column header,
    !> or on restart the old one cut back to rows up to time t_keep.
-   subroutine gauges_open(gt, out_dir, gs, restart, t_keep)
+   subroutine gauges_open(gt, out_dir, restart, t_keep)
       type(gauges_t), intent(inout) :: gt
       character(len=*), intent(in) :: out_dir
-      type(gauge_cfg), intent(in) :: gs(:)
       logical, intent(in) :: restart
       real(rp), intent(in) :: t_keep
       character(len=:), allocatable :: path, keep, head
@@ -51,12 +69,12 @@ contains
       gt%opened = .true.
       write (gt%unit, '(a)') '# id,kind,x,y'
       head = 'time'
-      do k = 1, size(gs)
-         if (gs(k)%kind_id == gauge_elevation) then
-            write (gt%unit, '("# ",i0,",elevation,",f0.6,",nan")') k, gs(k)%x
+      do k = 1, gauges_count(gt)
+         if (gt%kind(k) == gauge_elevation) then
+            write (gt%unit, '("# ",i0,",elevation,",f0.6,",nan")') k, gt%x(k)
             write (b, '(",eta_",i0)') k
          else
-            write (gt%unit, '("# ",i0,",pressure,",f0.6,",",f0.6)') k, gs(k)%x, gs(k)%y
+            write (gt%unit, '("# ",i0,",pressure,",f0.6,",",f0.6)') k, gt%x(k), gt%y(k)
             write (b, '(",p_",i0)') k
          end if
          head = head//trim(b)
@@ -92,9 +110,8 @@ contains
    !> over the ranks, gauges_values turns it into the gauges' values, which
    !> so do not depend on the decomposition. The grid must hold the
    !> particles' current order (it is sorted every step).
-   subroutine gauges_sums(gt, gs, prm, g, p, acc)
+   subroutine gauges_sums(gt, prm, g, p, acc)
       type(gauges_t), intent(inout) :: gt
-      type(gauge_cfg), intent(in) :: gs(:)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(in) :: p
@@ -106,32 +123,31 @@ contains
       gt%ybot = g%y0
       gt%ny = ceiling(g%ncy*g%csy/gt%dy) + 1
       ! one block per gauge: ny kernel sums (elevation) or 2 (pressure)
-      allocate (acc(size(gs)*gt%ny), stat=ist, errmsg=emsg)
+      allocate (acc(gauges_count(gt)*gt%ny), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'acc in gauges_sums')
       acc = 0.0_rp
-      do k = 1, size(gs)
+      do k = 1, gauges_count(gt)
          off = (k - 1)*gt%ny
-         call candidates(gt, gs(k)%x, prm, g, p, nc)
-         if (gs(k)%kind_id == gauge_elevation) then
+         call candidates(gt, gt%x(k), prm, g, p, nc)
+         if (gt%kind(k) == gauge_elevation) then
             call add_column(gt, prm, nc, acc(off + 1:off + gt%ny))
          else
-            call add_point(gt, prm, nc, gs(k)%y, acc(off + 1:off + 2))
+            call add_point(gt, prm, nc, gt%y(k), acc(off + 1:off + 2))
          end if
       end do
    end subroutine gauges_sums
 
    !> Elevation above still water [m] or pressure [Pa] of every gauge, from
    !> the sums of gauges_sums added over the ranks.
-   subroutine gauges_values(gt, gs, prm, acc, val)
+   subroutine gauges_values(gt, prm, acc, val)
       type(gauges_t), intent(in) :: gt
-      type(gauge_cfg), intent(in) :: gs(:)
       type(params_t), intent(in) :: prm
       real(rp), intent(in) :: acc(:)
       real(rp), intent(out) :: val(:)
       integer :: k, off
-      do k = 1, size(gs)
+      do k = 1, gauges_count(gt)
          off = (k - 1)*gt%ny
-         if (gs(k)%kind_id == gauge_elevation) then
+         if (gt%kind(k) == gauge_elevation) then
             val(k) = surface(acc(off + 1:off + gt%ny))
          else
             val(k) = 0.0_rp

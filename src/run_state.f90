@@ -1,10 +1,12 @@
 !> Counters and clocks of a run: everything besides the particles that a
-!> restart needs to continue exactly as the uninterrupted run.
+!> restart needs to continue exactly as the uninterrupted run (state_t); and
+!> what the case asks of the run's course (run_ctl_t: when to stop, write,
+!> report, balance; the scene builder makes it from &run and &domain).
 module run_state
    use kinds, only: rp, i8
    implicit none
    private
-   public :: state_t
+   public :: state_t, run_ctl_t
 
    type :: state_t
       real(rp) :: t = 0.0_rp          !< simulated time [s]
@@ -25,4 +27,19 @@ module run_state
       real(rp) :: t0 = 0.0_rp         !< simulated time at the start of stepping [s]
       integer(i8) :: particle_steps = 0_i8
    end type state_t
+
+   !> The course of a run as the case sets it (doc/input.md, &run and &domain).
+   type :: run_ctl_t
+      real(rp) :: t_end = 1.0_rp               !< simulated end time [s]
+      integer :: max_steps = 0                 !< stop after this many steps (0: no limit)
+      real(rp) :: dt_out = 0.1_rp              !< interval between snapshots [s]
+      real(rp) :: energy_interval = 0.1_rp     !< interval of energy.csv rows [s]
+      real(rp) :: gauge_interval = 0.01_rp     !< interval of gauges.csv rows [s]
+      real(rp) :: progress_interval = 2.0_rp   !< wall seconds between progress lines
+      integer :: checkpoint_every = 0          !< steps between checkpoints (0: only at the end)
+      integer :: balance_every = 100           !< steps between moves of the slab edges (0: never)
+      real(rp) :: max_lost_fraction = 0.02_rp  !< stop when more fluid than this is lost
+      logical :: restart = .false.             !< the run continues a checkpoint
+      real(rp) :: box(4) = 0.0_rp              !< the domain: xmin, xmax, ymin, ymax [m]
+   end type run_ctl_t
 end module run_state

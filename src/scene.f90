@@ -10,13 +10,19 @@ module scene
    use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, wall_fixed, integ_verlet
    use input_geometry, only: geom_object
    use particles, only: particles_t, particles_grow, particles_fit
-   use params, only: params_t, params_init
+   use params, only: params_t
+   use kernel, only: kernel_norm
+   use probe_gauges, only: gauges_t, gauges_init
+   use wave_damping, only: damping_t
+   use contact, only: contact_settings_t
+   use run_state, only: run_ctl_t
    use eos, only: eos_density_at_depth
    use geom, only: point_in_polygon, nearest_edge_normal, distance_to_polygon, polygon_area
    use errors, only: fatal, alloc_check
    implicit none
    private
-   public :: scene_build, scene_bodies, scene_no_fluid, scene_estimate
+   public :: scene_build, scene_bodies, scene_no_fluid, scene_estimate, scene_params, scene_gauges, scene_damping, &
+             scene_contact, scene_run
 
    !> What a scene without fluid particles lacks, for the messages.
    character(len=*), parameter :: scene_no_fluid = "no fluid particles: no &box or &polygon with role = 'fluid' "// &
@@ -64,7 +70,7 @@ contains
          ybed = minval(p%x(2, 1:p%n), mask=p%kind(1:p%n) == kind_fluid) - 0.5_rp*dp
          ytop = maxval(p%x(2, 1:p%n), mask=p%kind(1:p%n) == kind_fluid) + 0.5_rp*dp
       end if
-      call params_init(c, ybed, ytop, prm)
+      call scene_params(c, ybed, ytop, prm)
       do i = 1, p%n
          p%id(i) = i
          p%v(:, i) = 0.0_rp
@@ -335,4 +341,109 @@ contains
          end if
       end do
    end function inside_earlier_solid
+
+   !> The run's constants from the case: ybed and ytop bound the fluid (its
+   !> lowest and highest particle edges); they fix h_swl when the input leaves it at 0.
+   subroutine scene_params(c, ybed, ytop, prm)
+      type(case_cfg), intent(in) :: c
+      real(rp), intent(in) :: ybed, ytop
+      type(params_t), intent(out) :: prm
+      prm%case_name = c%run%case_name
+      prm%dp = c%numerics%dp
+      prm%h = c%numerics%h_over_dp*prm%dp
+      prm%h2 = prm%h*prm%h
+      prm%support2 = 4.0_rp*prm%h2
+      prm%eta2 = 0.01_rp*prm%h2
+      prm%kernel = c%numerics%kernel_id
+      prm%aw = kernel_norm(prm%kernel, prm%h)
+      prm%fw = prm%aw/prm%h2
+      prm%w0 = prm%aw                      ! both kernels have w(0) = 1
+      prm%rho0 = c%fluid%rho0
+      prm%gamma = c%fluid%gamma
+      if (abs(prm%gamma - anint(prm%gamma)) < 1.0e-12_rp*prm%gamma) prm%igamma = nint(prm%gamma)
+      prm%g = c%fluid%gravity
+      if (c%fluid%h_swl > 0.0_rp) then
+         prm%h_swl = c%fluid%h_swl
+         prm%y_surface = ybed + prm%h_swl
+      else if (ytop > ybed) then
+         prm%h_swl = ytop - ybed
+         prm%y_surface = ytop
+      else                                 ! no fluid: c0 still needs a depth scale
+         prm%h_swl = max(10.0_rp*prm%dp, 0.1_rp)
+         prm%y_surface = ybed
+      end if
+      prm%c0 = c%fluid%coef*sqrt(max(prm%g, 1.0e-3_rp)*prm%h_swl)
+      prm%b = prm%c0**2*prm%rho0/prm%gamma
+      prm%rho_min = c%fluid%rho_min*prm%rho0
+      prm%rho_max = c%fluid%rho_max*prm%rho0
+      prm%cfl = c%numerics%cfl
+      prm%dt_fixed = c%numerics%dt_fixed
+      prm%visc = c%numerics%viscosity_id
+      prm%alpha = c%numerics%alpha
+      prm%nu = c%numerics%nu
+      prm%sps_smag = (c%numerics%cs_sps*prm%dp)**2
+      prm%sps_blin = (2.0_rp/3.0_rp)*c%numerics%ci_sps*prm%dp**2
+      prm%diffusion = c%numerics%diffusion_id
+      prm%delta_coef = c%numerics%delta*prm%h*prm%c0
+      prm%kgc = c%numerics%kgc_id
+      prm%shepard_every = c%numerics%shepard_every
+      prm%kgc_cont = merge(1.0_rp, 0.0_rp, c%numerics%kgc_continuity)
+      prm%integrator = c%numerics%integrator_id
+      prm%verlet_every = c%numerics%verlet_every
+      prm%boundary = c%numerics%boundary_id
+      prm%rep_a = (10.0_rp/c%fluid%coef)**2*0.01_rp*prm%c0**2/prm%h
+      prm%rep_b = (10.0_rp/c%fluid%coef)*prm%c0/prm%h
+      prm%rep_u = 40.0_rp/prm%c0
+      prm%rep_rhswl = 1.0_rp/prm%h_swl
+   end subroutine scene_params
+
+   !> The case's gauges: kind and position of each.
+   subroutine scene_gauges(c, gt)
+      type(case_cfg), intent(in) :: c
+      type(gauges_t), intent(out) :: gt
+      call gauges_init(gt, c%gauges%kind_id, c%gauges%x, c%gauges%y)
+   end subroutine scene_gauges
+
+   !> The case's absorbing zone (off when it has none).
+   pure function scene_damping(c) result(d)
+      type(case_cfg), intent(in) :: c
+      type(damping_t) :: d
+      d = damping_t(c%damping%on, c%damping%x0, c%damping%x1, c%damping%strength)
+   end function scene_damping
+
+   !> The case's contact model and coefficients (B of &contact, or &fluid's
+   !> coef when it is left at 0).
+   pure function scene_contact(c) result(cs)
+      type(case_cfg), intent(in) :: c
+      type(contact_settings_t) :: cs
+      cs%model = c%contact%model_id
+      cs%b = c%contact%b
+      if (cs%b <= 0.0_rp) cs%b = c%fluid%coef
+      cs%c0 = c%contact%c0
+      cs%r_f = c%contact%r_f
+      cs%q0 = c%contact%q0
+      cs%barrier = c%contact%barrier
+      cs%stick_velocity = c%contact%stick_velocity
+      cs%stick_length = c%contact%stick_length
+      cs%impact = c%contact%impact
+   end function scene_contact
+
+   !> The course of the run the case asks for (energy rows every dt_out when
+   !> energy_interval is left at 0).
+   pure function scene_run(c) result(rc)
+      type(case_cfg), intent(in) :: c
+      type(run_ctl_t) :: rc
+      rc%t_end = c%run%t_end
+      rc%max_steps = c%run%max_steps
+      rc%dt_out = c%run%dt_out
+      rc%energy_interval = c%run%energy_interval
+      if (rc%energy_interval <= 0.0_rp) rc%energy_interval = c%run%dt_out
+      rc%gauge_interval = c%run%gauge_interval
+      rc%progress_interval = c%run%progress_interval
+      rc%checkpoint_every = c%run%checkpoint_every
+      rc%balance_every = c%run%balance_every
+      rc%max_lost_fraction = c%run%max_lost_fraction
+      rc%restart = c%run%restart
+      rc%box = [c%domain%xmin, c%domain%xmax, c%domain%ymin, c%domain%ymax]
+   end function scene_run
 end module scene

@@ -12,9 +12,10 @@ module solver
    use input, only: case_cfg, write_case
    use input_check, only: int_str, real_str, approx_str
    use particles, only: particles_t, particles_count_kind, particles_permute
-   use params, only: params_t, params_init, visc_artificial, diff_none, kgc_gradient, kgc_shepard, &
+   use params, only: params_t, visc_artificial, diff_none, kgc_gradient, kgc_shepard, &
                      integ_verlet, bnd_repulsive
-   use scene, only: scene_build, scene_bodies, scene_no_fluid, scene_estimate
+   use scene, only: scene_build, scene_bodies, scene_no_fluid, scene_estimate, scene_params, scene_gauges, &
+                    scene_damping, scene_contact, scene_run
    use sys_limits, only: sys_memory_left
    use body_dynamics, only: body_t, bodies_place, bodies_energy, bodies_prescribe
    use contact, only: contact_t, contact_init, contact_memory_advance, contact_memory_get, contact_memory_set
@@ -28,7 +29,7 @@ module solver
    use kernel_correction, only: shepard_sums, shepard_apply
    use step, only: step_state_t, step_advance, step_dt_ratio
    use bc_motion, only: walls_t, walls_init, motion_apply
-   use run_state, only: state_t
+   use run_state, only: state_t, run_ctl_t
    use io_hdf5, only: h5_start, h5_stop
    use io_files, only: outdir_prepare, outdir_unlock, dir_writable, text_hash, file_text, energy_open, energy_row, &
                        energy_close, snap_name
@@ -39,14 +40,14 @@ module solver
    use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max, comm_allgather, comm_node_size
    use errors, only: fatal, input_error, alloc_check
    use wave_paddle, only: paddle_t, paddle_init
-   use wave_damping, only: damping_apply
-   use probe_gauges, only: gauges_t, gauges_open, gauges_sums, gauges_values, gauges_write, gauges_close
+   use wave_damping, only: damping_t, damping_apply
+   use probe_gauges, only: gauges_t, gauges_count, gauges_open, gauges_sums, gauges_values, gauges_write, gauges_close
    use io_armour, only: armour_csv_write
    implicit none
    private
    public :: solver_run
 
-   type(case_cfg) :: cfg
+   type(run_ctl_t) :: rc                     !< the course of the run the case asks for
    type(params_t) :: prm
    type(particles_t) :: p
    type(grid_t) :: g
@@ -62,7 +63,8 @@ module solver
    integer :: n_kind(4) = 0                  !< particles of each kind at the start, all ranks
    type(walls_t) :: walls                    !< moving walls and the paddle: their laws of time
    type(decomp_t) :: dc                      !< the slabs of the ranks
-   type(gauges_t) :: gt                      !< the gauges' file and scratch
+   type(gauges_t) :: gt                      !< the gauges, their file and scratch
+   type(damping_t) :: zone                   !< the absorbing zone
    real(rp) :: t_next_gauge = 0.0_rp
    character(len=:), allocatable :: wave_report
 
@@ -89,7 +91,7 @@ contains
          call step_advance(prm, g, p, w, ss, walls, bodies, ct, st%t, st%istep + 1, st%dt)
          if (st%dt > ss%dt_limit) call refuse_fixed_step(ss%dt_limit)
          if (size(bodies) > 0) call contact_memory_advance(ct, bodies, st%dt)
-         if (cfg%damping%on) call damping_apply(cfg%damping, p, st%dt)
+         if (zone%on) call damping_apply(zone, p, st%dt)
          st%t = st%t + st%dt
          st%istep = st%istep + 1
          call gauges_due()
@@ -100,10 +102,10 @@ contains
          if (st%t >= st%t_next_snap*(1.0_rp - 1.0e-12_rp) .or. st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp)) then
             call write_outputs(st%t >= st%t_next_snap*(1.0_rp - 1.0e-12_rp), &
                                st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp))
-            written = st%t >= st%t_next_snap - cfg%run%dt_out   ! a snapshot of this very step exists
+            written = st%t >= st%t_next_snap - rc%dt_out   ! a snapshot of this very step exists
          end if
          if (.not. done) call checkpoint_due()
-         if (comm_wtime() - wall_last >= cfg%run%progress_interval .or. done) then
+         if (comm_wtime() - wall_last >= rc%progress_interval .or. done) then
             call progress()
             wall_last = comm_wtime()
          end if
@@ -131,7 +133,7 @@ contains
       type(paddle_t) :: paddle
       integer :: ist
       character(len=200) :: emsg
-      cfg = c
+      rc = scene_run(c)
       out = trim(c%run%out_dir)
       call timer_start(t_setup)
       ! every check that can still fail comes before the output folder is
@@ -159,7 +161,7 @@ contains
          end block
          p%history = c%numerics%integrator_id == integ_verlet
          call checkpoint_read(c%file, out, p, st, bodies, counts, edges, mem)
-         call params_init(c, st%y_surface - st%h_swl, st%y_surface, prm)
+         call scene_params(c, st%y_surface - st%h_swl, st%y_surface, prm)
          call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//out// &
                        '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
       else
@@ -181,6 +183,8 @@ contains
       n_kind = [particles_count_kind(p, kind_fluid), particles_count_kind(p, kind_fixed), &
                 particles_count_kind(p, kind_moving), particles_count_kind(p, kind_floating)]
       call walls_init(c%objs, paddle, n_kind(3) > 0, walls)
+      call scene_gauges(c, gt)
+      zone = scene_damping(c)
       ! moving walls start on their motion: position and velocity at t = 0
       if (walls%moving .and. .not. c%run%restart) call motion_apply(walls, p, 0.0_rp)
       if (n_kind(1) == 0) call log_line('mbsph: warning: '//trim(c%file)//': the case has '//scene_no_fluid// &
@@ -191,11 +195,11 @@ contains
       call decompose(counts, edges)
       call forces_init(prm)
       if (size(bodies) > 0) then
-         call contact_init(c%contact, prm, c%fluid%coef, ct)
+         call contact_init(scene_contact(c), prm, ct)
          if (c%run%restart) call contact_memory_set(ct, nint(mem(1:2, :)), mem(3:4, :))
          if (comm_rank() == 0) call bodies_csv_open(out, c%run%restart, st%t)
       end if
-      call banner()
+      call banner(c)
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (drop(size(p%rho)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'drop in setup')
@@ -217,13 +221,13 @@ contains
       real(rp), allocatable :: mem(:, :)
       ! without bodies the memory is empty and nothing of it is written
       call contact_memory_get(ct, mem)
-      call checkpoint_write(dir, cfg%numerics%dp, p, st, bodies, mem, dc%edge)
+      call checkpoint_write(dir, prm%dp, p, st, bodies, mem, dc%edge)
    end subroutine checkpoint
 
    !> A checkpoint every checkpoint_every steps, when asked for.
    subroutine checkpoint_due()
-      if (cfg%run%checkpoint_every <= 0) return
-      if (mod(st%istep, cfg%run%checkpoint_every) /= 0) return
+      if (rc%checkpoint_every <= 0) return
+      if (mod(st%istep, rc%checkpoint_every) /= 0) return
       call timer_start(t_output)
       call checkpoint(out)
       call timer_stop(t_output)
@@ -232,10 +236,10 @@ contains
    !> gauges.csv (rank 0's; cut back on restart) and, for a new run, its
    !> first row. The gauges need the particles sorted by cell.
    subroutine gauges_start()
-      if (size(cfg%gauges) == 0) return
-      if (comm_rank() == 0) call gauges_open(gt, out, cfg%gauges, cfg%run%restart, st%t)
-      t_next_gauge = (floor(st%t/cfg%run%gauge_interval + 1.0e-9_rp) + 1)*cfg%run%gauge_interval
-      if (cfg%run%restart) return
+      if (gauges_count(gt) == 0) return
+      if (comm_rank() == 0) call gauges_open(gt, out, rc%restart, st%t)
+      t_next_gauge = (floor(st%t/rc%gauge_interval + 1.0e-9_rp) + 1)*rc%gauge_interval
+      if (rc%restart) return
       drop = .false.
       call grid_sort(g, p, drop, cells=size(bodies) > 0)
       call gauges_row()
@@ -243,21 +247,21 @@ contains
 
    !> A gauges.csv row when one is due.
    subroutine gauges_due()
-      if (size(cfg%gauges) == 0) return
+      if (gauges_count(gt) == 0) return
       if (st%t < t_next_gauge*(1.0_rp - 1.0e-12_rp)) return
       call timer_start(t_output)
       call gauges_row()
-      t_next_gauge = (floor(st%t/cfg%run%gauge_interval + 1.0e-9_rp) + 1)*cfg%run%gauge_interval
+      t_next_gauge = (floor(st%t/rc%gauge_interval + 1.0e-9_rp) + 1)*rc%gauge_interval
       call timer_stop(t_output)
    end subroutine gauges_due
 
    !> The gauges now: each rank's sums, their sum over the ranks, one row by rank 0.
    subroutine gauges_row()
       real(rp), allocatable :: acc(:)
-      real(rp) :: val(size(cfg%gauges))
-      call gauges_sums(gt, cfg%gauges, prm, g, p, acc)
+      real(rp) :: val(gauges_count(gt))
+      call gauges_sums(gt, prm, g, p, acc)
       call comm_sum(acc)
-      call gauges_values(gt, cfg%gauges, prm, acc, val)
+      call gauges_values(gt, prm, acc, val)
       call gauges_write(gt, st%t, val)
    end subroutine gauges_row
 
@@ -267,8 +271,8 @@ contains
       call timer_start(t_grid)
       ! at step 0 and every balance_every steps (a restart on as many ranks
       ! balances at the same steps as the run it continues)
-      if (comm_size() > 1 .and. cfg%run%balance_every > 0) then
-         if (mod(st%istep, cfg%run%balance_every) == 0) call rebalance()
+      if (comm_size() > 1 .and. rc%balance_every > 0) then
+         if (mod(st%istep, rc%balance_every) == 0) call rebalance()
       end if
       call remove_particles()
       call comm_halo_migrate(dc, p, drop)
@@ -382,14 +386,14 @@ contains
       character(len=200) :: emsg
       nr = comm_size()
       me = comm_rank()
-      call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h)
+      call grid_init(g, rc%box(1), rc%box(2), rc%box(3), rc%box(4), prm%h)
       call decomp_init(dc, g%x0, g%cs, g%ncx_all, nr, me)
       if (nr == 1) return
       same = size(counts) == nr .and. size(edges) == nr + 1
       if (same) same = edges(nr + 1) == g%ncx_all
       if (same) then
          call decomp_set_edges(dc, edges)
-      else if (cfg%run%restart .and. cfg%run%balance_every > 0) then
+      else if (rc%restart .and. rc%balance_every > 0) then
          ! (a new run starts from slabs of equal width and balances at step 0)
          allocate (hist(0:g%ncx_all - 1), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'hist in decompose')
@@ -424,7 +428,7 @@ contains
       end if
       call particles_permute(p, perm, nkeep)
       p%n_own = p%n
-      call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h, &
+      call grid_init(g, rc%box(1), rc%box(2), rc%box(3), rc%box(4), prm%h, &
                      decomp_lo(dc), decomp_hi(dc))
    contains
       subroutine keep(j)
@@ -454,7 +458,7 @@ contains
       call decomp_balance(dc, hist, moved)
       if (.not. moved) return
       call comm_halo_redistribute(dc, p)
-      call grid_init(g, cfg%domain%xmin, cfg%domain%xmax, cfg%domain%ymin, cfg%domain%ymax, prm%h, &
+      call grid_init(g, rc%box(1), rc%box(2), rc%box(3), rc%box(4), prm%h, &
                      decomp_lo(dc), decomp_hi(dc))
    end subroutine rebalance
 
@@ -473,8 +477,8 @@ contains
    end subroutine ensure_scratch
 
    logical function finished()
-      finished = st%t >= cfg%run%t_end*(1.0_rp - 1.0e-12_rp)
-      if (cfg%run%max_steps > 0) finished = finished .or. st%istep >= cfg%run%max_steps
+      finished = st%t >= rc%t_end*(1.0_rp - 1.0e-12_rp)
+      if (rc%max_steps > 0) finished = finished .or. st%istep >= rc%max_steps
    end function finished
 
    !> Fluid particles that left the domain or reached a non-physical density
@@ -497,7 +501,7 @@ contains
          if (p%kind(i) /= kind_fluid) cycle
          x = p%x(1, i)
          y = p%x(2, i)
-         if (x < cfg%domain%xmin .or. x > cfg%domain%xmax .or. y < cfg%domain%ymin .or. y > cfg%domain%ymax) then
+         if (x < rc%box(1) .or. x > rc%box(2) .or. y < rc%box(3) .or. y > rc%box(4)) then
             drop(i) = .true.
             nd = nd + 1
          else if (p%rho(i) < prm%rho_min .or. p%rho(i) > prm%rho_max) then
@@ -516,10 +520,10 @@ contains
       call log_line('step '//int_str(st%istep)//', t = '//real_str(st%t)//' s: removed '//int_str(nd + nr)// &
                     ' fluid particles (left the domain: '//int_str(nd)//', density outside ['// &
                     real_str(prm%rho_min)//', '//real_str(prm%rho_max)//'] kg/m3: '//int_str(nr)//')')
-      if (st%lost_domain + st%lost_density > cfg%run%max_lost_fraction*st%n_fluid0) then
+      if (st%lost_domain + st%lost_density > rc%max_lost_fraction*st%n_fluid0) then
          call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
          call fatal('lost '//int_str(st%lost_domain + st%lost_density)//' of '//int_str(st%n_fluid0)// &
-                    ' fluid particles, more than max_lost_fraction = '//real_str(cfg%run%max_lost_fraction)// &
+                    ' fluid particles, more than max_lost_fraction = '//real_str(rc%max_lost_fraction)// &
                     ' (&run); last state written to '//snap_name(out, st%isnap))
       end if
    end subroutine remove_particles
@@ -593,7 +597,7 @@ contains
          call eos_update(prm, p%n, p%rho, p%p, w%cs)
          call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
          st%isnap = st%isnap + 1
-         st%t_next_snap = (floor(st%t/cfg%run%dt_out + 1.0e-9_rp) + 1)*cfg%run%dt_out
+         st%t_next_snap = (floor(st%t/rc%dt_out + 1.0e-9_rp) + 1)*rc%dt_out
       end if
       if (energy) then
          ekin = 0.0_rp
@@ -616,16 +620,16 @@ contains
                          bpot, pen(1))
          if (size(bodies) > 0) call bodies_csv_row(st%t, bodies)
          st%ienergy = st%ienergy + 1
-         de = cfg%run%energy_interval
-         if (de <= 0.0_rp) de = cfg%run%dt_out
+         de = rc%energy_interval
          st%t_next_energy = (floor(st%t/de + 1.0e-9_rp) + 1)*de
       end if
       call timer_stop(t_output)
    end subroutine write_outputs
 
-   subroutine banner()
+   subroutine banner(c)
+      type(case_cfg), intent(in) :: c
       character(len=:), allocatable :: fx
-      call log_line("MBSPH case '"//trim(cfg%run%case_name)//"' from "//trim(cfg%file))
+      call log_line("MBSPH case '"//trim(c%run%case_name)//"' from "//trim(c%file))
       call log_line('  particles: '//int_str(n_global)//' ('//kind_name(kind_fluid)//' '// &
                     int_str(n_kind(1))//', '//kind_name(kind_fixed)//' '// &
                     int_str(n_kind(2))//', '//kind_name(kind_moving)//' '// &
@@ -634,7 +638,7 @@ contains
       call log_line('  dp = '//real_str(prm%dp)//' m, h = '//real_str(prm%h)//' m, c0 = '//real_str(prm%c0)// &
                     ' m/s, h_swl = '//real_str(prm%h_swl)//' m, rho0 = '//real_str(prm%rho0)// &
                     ' kg/m3, first dt about '//real_str(prm%cfl*prm%h/prm%c0)//' s')
-      call log_line('  kernel '//trim(cfg%numerics%kernel)//', integrator '//trim(cfg%numerics%integrator)// &
+      call log_line('  kernel '//trim(c%numerics%kernel)//', integrator '//trim(c%numerics%integrator)// &
                     ', cfl '//real_str(prm%cfl)//', ranks '//int_str(comm_size()))
       if (prm%visc == visc_artificial) then
          fx = 'artificial viscosity (alpha '//real_str(prm%alpha)//')'
@@ -642,31 +646,31 @@ contains
          fx = 'laminar + SPS viscosity (nu '//real_str(prm%nu)//' m2/s)'
       end if
       if (prm%diffusion /= diff_none) then
-         fx = fx//', density diffusion '//trim(cfg%numerics%diffusion)//' (delta '//real_str(cfg%numerics%delta)//')'
+         fx = fx//', density diffusion '//trim(c%numerics%diffusion)//' (delta '//real_str(c%numerics%delta)//')'
       end if
       if (prm%kgc == kgc_gradient) fx = fx//', kernel gradient correction'
       if (prm%kgc == kgc_shepard) fx = fx//', Shepard filter every '//int_str(prm%shepard_every)//' steps'
       if (prm%boundary == bnd_repulsive) fx = fx//', repulsive-force boundary'
       if (walls%moving) fx = fx//', moving boundaries'
-      if (cfg%wavemaker%on) fx = fx//', wavemaker ('//trim(cfg%wavemaker%paddle)//', '//trim(cfg%wavemaker%wave)//')'
-      if (cfg%damping%on) fx = fx//', damping zone x = '//real_str(cfg%damping%x0)//' to '//real_str(cfg%damping%x1)// &
+      if (c%wavemaker%on) fx = fx//', wavemaker ('//trim(c%wavemaker%paddle)//', '//trim(c%wavemaker%wave)//')'
+      if (zone%on) fx = fx//', damping zone x = '//real_str(zone%x0)//' to '//real_str(zone%x1)// &
                                ' m'
-      if (size(cfg%gauges) > 0) fx = fx//', '//int_str(size(cfg%gauges))//' gauges every '// &
-                                     real_str(cfg%run%gauge_interval)//' s'
+      if (gauges_count(gt) > 0) fx = fx//', '//int_str(gauges_count(gt))//' gauges every '// &
+                                     real_str(c%run%gauge_interval)//' s'
       if (size(bodies) > 0) then
-         fx = fx//', '//int_str(size(bodies))//' rigid bodies, contact '//trim(cfg%contact%model)// &
+         fx = fx//', '//int_str(size(bodies))//' rigid bodies, contact '//trim(c%contact%model)// &
               ' (c0 '//real_str(ct%c)//' m/s, r_f '//real_str(ct%r_f)//')'
-         if (any(cfg%bodies(:)%mu > 0.0_rp)) fx = fx//', Coulomb friction'
+         if (any(c%bodies(:)%mu > 0.0_rp)) fx = fx//', Coulomb friction'
       end if
       if (prm%integrator == integ_verlet) fx = fx//', Verlet Euler step every '//int_str(prm%verlet_every)
       call log_line('  effects on: '//fx)
       if (len(wave_report) > 0) call log_line(wave_report)
-      if (cfg%armour%on) call log_line('  armour: '//int_str(cfg%layer%n_units)//' '//trim(cfg%armour%placement)// &
-         ' units of dn = '//real_str(cfg%armour%dn)//' m, density '//real_str(cfg%armour%density)// &
-         ' kg/m3 on a slope of '//real_str(cfg%layer%alpha*57.29577951308232_rp)//' deg, porosity '// &
-         real_str(cfg%layer%porosity)//' (target '//real_str(cfg%armour%porosity)//')')
-      call log_line('  output: '//out//', snapshot every '//real_str(cfg%run%dt_out)//' s until t = '// &
-                    real_str(cfg%run%t_end)//' s')
+      if (c%armour%on) call log_line('  armour: '//int_str(c%layer%n_units)//' '//trim(c%armour%placement)// &
+         ' units of dn = '//real_str(c%armour%dn)//' m, density '//real_str(c%armour%density)// &
+         ' kg/m3 on a slope of '//real_str(c%layer%alpha*57.29577951308232_rp)//' deg, porosity '// &
+         real_str(c%layer%porosity)//' (target '//real_str(c%armour%porosity)//')')
+      call log_line('  output: '//out//', snapshot every '//real_str(c%run%dt_out)//' s until t = '// &
+                    real_str(c%run%t_end)//' s')
    end subroutine banner
 
    subroutine progress()
@@ -675,12 +679,12 @@ contains
       integer :: hh, mm, ss
       wall = comm_wtime() - st%wall0
       rate = real(st%particle_steps, rp)/max(wall, 1.0e-9_rp)
-      frac = st%t/cfg%run%t_end
+      frac = st%t/rc%t_end
       eta = 0.0_rp
-      if (st%t > st%t0) eta = wall*(cfg%run%t_end - st%t)/(st%t - st%t0)
-      if (cfg%run%max_steps > 0) then
-         frac = max(frac, real(st%istep, rp)/cfg%run%max_steps)
-         if (st%istep > st%istep0) eta = min(eta, wall*(cfg%run%max_steps - st%istep)/(st%istep - st%istep0))
+      if (st%t > st%t0) eta = wall*(rc%t_end - st%t)/(st%t - st%t0)
+      if (rc%max_steps > 0) then
+         frac = max(frac, real(st%istep, rp)/rc%max_steps)
+         if (st%istep > st%istep0) eta = min(eta, wall*(rc%max_steps - st%istep)/(st%istep - st%istep0))
       end if
       eta = max(eta, 0.0_rp)
       hh = int(eta/3600.0_rp)

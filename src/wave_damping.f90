@@ -5,16 +5,23 @@
 module wave_damping
    use kinds, only: rp
    use constants, only: kind_fluid
-   use input_wave, only: damping_cfg
    use particles, only: particles_t
    implicit none
    private
-   public :: damping_apply
+   public :: damping_t, damping_apply
+
+   !> An absorbing zone: where it starts and ends, and its rate at the end.
+   type :: damping_t
+      logical :: on = .false.
+      real(rp) :: x0 = 0.0_rp             !< start of the zone [m]: no damping there
+      real(rp) :: x1 = 0.0_rp             !< end of the zone [m]: full damping (x1 < x0 damps to the left)
+      real(rp) :: strength = 0.0_rp       !< relaxation rate at x1 [1/s]
+   end type damping_t
 
 contains
 
    subroutine damping_apply(d, p, dt)
-      type(damping_cfg), intent(in) :: d
+      type(damping_t), intent(in) :: d
       type(particles_t), intent(inout) :: p
       real(rp), intent(in) :: dt
       integer :: i

@@ -18,10 +18,9 @@ program test_contact
    use params, only: params_t
    use kernel, only: kernel_wendland, kernel_norm
    use body_dynamics, only: body_t
-   use input_body, only: contact_cfg
    use options, only: model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz, &
                       motion_floating
-   use contact, only: contact_t, contact_init, contact_sweep, contact_apply
+   use contact, only: contact_t, contact_settings_t, contact_init, contact_sweep, contact_apply
    use testing, only: check, test_summary
    implicit none
    integer, parameter :: ns = 12                ! particles along a side
@@ -33,7 +32,7 @@ program test_contact
    type(grid_t) :: g
    type(params_t) :: prm
    type(body_t) :: bodies(3)
-   type(contact_cfg) :: cfg
+   type(contact_settings_t) :: cfg
    type(contact_t) :: ct
    real(rp), allocatable :: drho(:)
    logical(lk), allocatable :: drop(:)
@@ -54,8 +53,9 @@ program test_contact
       do k = 1, 2
          with_floor = k == 1
          call make_scene(with_floor)
-         cfg%model_id = models(m)
-         call contact_init(cfg, prm, 20.0_rp, ct)
+         cfg%model = models(m)
+         cfg%b = 20.0_rp
+         call contact_init(cfg, prm, ct)
          call contact_sweep(ct, prm, g, p, bodies, drho)
          if (with_floor) then
             call check_candidates(trim(names(m)))
