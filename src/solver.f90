@@ -4,7 +4,8 @@
 !> (decomp): every rank builds (or reads) the whole set, keeps its slab,
 !> and every step sends the particles that crossed an edge to their new
 !> owner and builds its halo after the sort (comm_halo); every few steps
-!> the slab edges move to even out the particle counts.
+!> the slab edges move to even out the particle counts. The module keeps no
+!> state: solver_run holds the run (run_t) and passes it to every step.
 module solver
    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use kinds, only: rp, i8, lk
@@ -47,248 +48,259 @@ module solver
    private
    public :: solver_run
 
-   type(run_ctl_t) :: rc                     !< the course of the run the case asks for
-   type(params_t) :: prm
-   type(particles_t) :: p
-   type(grid_t) :: g
-   type(forces_work_t) :: w
-   type(step_state_t) :: ss
-   type(state_t) :: st
-   type(body_t), allocatable :: bodies(:)
-   type(contact_t) :: ct
-   character(len=:), allocatable :: out, case_text
-   logical(lk), allocatable :: drop(:)
-   real(rp), allocatable :: scratch1(:), scratch2(:)
-   integer :: n_global = 0                   !< particles on all ranks
-   integer :: n_kind(4) = 0                  !< particles of each kind at the start, all ranks
-   type(walls_t) :: walls                    !< moving walls and the paddle: their laws of time
-   type(decomp_t) :: dc                      !< the slabs of the ranks
-   type(gauges_t) :: gt                      !< the gauges, their file and scratch
-   type(damping_t) :: zone                   !< the absorbing zone
-   real(rp) :: t_next_gauge = 0.0_rp
-   character(len=:), allocatable :: wave_report
+   !> Everything a run holds, passed down to every procedure of the solver.
+   type :: run_t
+      type(run_ctl_t) :: rc                     !< the course of the run the case asks for
+      type(params_t) :: prm
+      type(particles_t) :: p
+      type(grid_t) :: g
+      type(forces_work_t) :: w
+      type(step_state_t) :: ss
+      type(state_t) :: st
+      type(body_t), allocatable :: bodies(:)
+      type(contact_t) :: ct
+      character(len=:), allocatable :: out, case_text
+      logical(lk), allocatable :: drop(:)
+      real(rp), allocatable :: scratch1(:), scratch2(:)
+      integer :: n_global = 0                   !< particles on all ranks
+      integer :: n_kind(4) = 0                  !< particles of each kind at the start, all ranks
+      type(walls_t) :: walls                    !< moving walls and the paddle: their laws of time
+      type(decomp_t) :: dc                      !< the slabs of the ranks
+      type(gauges_t) :: gt                      !< the gauges, their file and scratch
+      type(damping_t) :: zone                   !< the absorbing zone
+      real(rp) :: t_next_gauge = 0.0_rp
+      character(len=:), allocatable :: wave_report
+   end type run_t
 
 contains
 
    subroutine solver_run(c)
       type(case_cfg), intent(in) :: c
+      type(run_t) :: r
       real(rp) :: dt_floor, wall_last
       logical :: done, written
-      call setup(c)
+      call setup(r, c)
 
       ! a collapsing step means the flow went unstable; without fluid the
       ! acoustic scale means nothing and stiff contacts set the step
-      dt_floor = 1.0e-4_rp*prm%cfl*prm%h/prm%c0
-      if (st%n_fluid0 == 0) dt_floor = 0.0_rp
-      st%istep0 = st%istep
-      st%t0 = st%t
-      st%wall0 = comm_wtime()
-      wall_last = st%wall0
-      done = finished()
+      dt_floor = 1.0e-4_rp*r%prm%cfl*r%prm%h/r%prm%c0
+      if (r%st%n_fluid0 == 0) dt_floor = 0.0_rp
+      r%st%istep0 = r%st%istep
+      r%st%t0 = r%st%t
+      r%st%wall0 = comm_wtime()
+      wall_last = r%st%wall0
+      done = finished(r)
       written = .true.
       do while (.not. done)
-         call neighbours()
-         call step_advance(prm, g, p, w, ss, walls, bodies, ct, st%t, st%istep + 1, st%dt)
-         if (st%dt > ss%dt_limit) call refuse_fixed_step(ss%dt_limit)
-         if (size(bodies) > 0) call contact_memory_advance(ct, bodies, st%dt)
-         if (zone%on) call damping_apply(zone, p, st%dt)
-         st%t = st%t + st%dt
-         st%istep = st%istep + 1
-         call gauges_due()
-         st%particle_steps = st%particle_steps + n_global
-         call check_state(dt_floor)
-         done = finished()
+         call neighbours(r)
+         call step_advance(r%prm, r%g, r%p, r%w, r%ss, r%walls, r%bodies, r%ct, r%st%t, r%st%istep + 1, r%st%dt)
+         if (r%st%dt > r%ss%dt_limit) call refuse_fixed_step(r, r%ss%dt_limit)
+         if (size(r%bodies) > 0) call contact_memory_advance(r%ct, r%bodies, r%st%dt)
+         if (r%zone%on) call damping_apply(r%zone, r%p, r%st%dt)
+         r%st%t = r%st%t + r%st%dt
+         r%st%istep = r%st%istep + 1
+         call gauges_due(r)
+         r%st%particle_steps = r%st%particle_steps + r%n_global
+         call check_state(r, dt_floor)
+         done = finished(r)
          written = .false.
-         if (st%t >= st%t_next_snap*(1.0_rp - 1.0e-12_rp) .or. st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp)) then
-            call write_outputs(st%t >= st%t_next_snap*(1.0_rp - 1.0e-12_rp), &
-                               st%t >= st%t_next_energy*(1.0_rp - 1.0e-12_rp))
-            written = st%t >= st%t_next_snap - rc%dt_out   ! a snapshot of this very step exists
+         if (r%st%t >= r%st%t_next_snap*(1.0_rp - 1.0e-12_rp) .or. r%st%t >= r%st%t_next_energy*(1.0_rp - 1.0e-12_rp)) then
+            call write_outputs(r, r%st%t >= r%st%t_next_snap*(1.0_rp - 1.0e-12_rp), &
+                               r%st%t >= r%st%t_next_energy*(1.0_rp - 1.0e-12_rp))
+            written = r%st%t >= r%st%t_next_snap - r%rc%dt_out   ! a snapshot of this very step exists
          end if
-         if (.not. done) call checkpoint_due()
-         if (comm_wtime() - wall_last >= rc%progress_interval .or. done) then
-            call progress()
+         if (.not. done) call checkpoint_due(r)
+         if (comm_wtime() - wall_last >= r%rc%progress_interval .or. done) then
+            call progress(r)
             wall_last = comm_wtime()
          end if
       end do
       ! the final state always gets a snapshot and a checkpoint
       call timer_start(t_output)
-      if (.not. written) call write_outputs(.true., .true.)
-      call checkpoint(out)
+      if (.not. written) call write_outputs(r, .true., .true.)
+      call checkpoint(r, r%out)
       call timer_stop(t_output)
-      call summary()
+      call summary(r)
       call energy_close()
       call bodies_csv_close()
-      call gauges_close(gt)
+      call gauges_close(r%gt)
       call h5_stop()
       call log_close()
-      if (comm_rank() == 0) call outdir_unlock(out)
+      if (comm_rank() == 0) call outdir_unlock(r%out)
    end subroutine solver_run
 
    !> Everything before the first step: the output folder, the particles
    !> (new or from the checkpoint), this rank's slab, the first output.
-   subroutine setup(c)
+   subroutine setup(r, c)
+      type(run_t), intent(inout) :: r
       type(case_cfg), intent(in) :: c
       integer, allocatable :: counts(:), edges(:)
       real(rp), allocatable :: mem(:, :)
       type(paddle_t) :: paddle
       integer :: ist
       character(len=200) :: emsg
-      rc = scene_run(c)
-      out = trim(c%run%out_dir)
+      r%rc = scene_run(c)
+      r%out = trim(c%run%out_dir)
       call timer_start(t_setup)
       ! every check that can still fail comes before the output folder is
       ! touched: with overwrite = .true. a case refused here keeps the old run
-      call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, paddle, wave_report)
+      call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, paddle, r%wave_report)
       call check_size(c)
       call check_ranks(c)
       call check_same_case(c)
-      if (.not. c%run%restart) call scene_build(c, p, prm, bodies)
+      if (.not. c%run%restart) call scene_build(c, r%p, r%prm, r%bodies)
       ! one rank prepares the folder; the others wait for it (or for its abort)
-      if (comm_rank() == 0) call outdir_prepare(c%file, out, c%run%overwrite, c%run%restart)
+      if (comm_rank() == 0) call outdir_prepare(c%file, r%out, c%run%overwrite, c%run%restart)
       call comm_barrier()
-      call check_folder_seen(c)
-      call log_open(out//'/run.log', c%run%restart)
+      call check_folder_seen(r, c)
+      call log_open(r%out//'/run.log', c%run%restart)
       call h5_start()
       if (c%run%restart) then
-         call scene_bodies(c, bodies)
+         call scene_bodies(c, r%bodies)
          ! the checkpoint must be this case's: its scene made again, only to count it
          block
             type(particles_t) :: made
             type(params_t) :: prm_made
             type(body_t), allocatable :: bodies_made(:)
             call scene_build(c, made, prm_made, bodies_made)
-            call checkpoint_check(c%file, out, c%numerics%dp, size(bodies), made%n)
+            call checkpoint_check(c%file, r%out, c%numerics%dp, size(r%bodies), made%n)
          end block
-         p%history = c%numerics%integrator_id == integ_verlet
-         call checkpoint_read(c%file, out, p, st, bodies, counts, edges, mem)
-         call scene_params(c, st%y_surface - st%h_swl, st%y_surface, prm)
-         call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//out// &
-                       '/checkpoint.h5 at t = '//real_str(st%t)//' s, step '//int_str(st%istep))
+         r%p%history = c%numerics%integrator_id == integ_verlet
+         call checkpoint_read(c%file, r%out, r%p, r%st, r%bodies, counts, edges, mem)
+         call scene_params(c, r%st%y_surface - r%st%h_swl, r%st%y_surface, r%prm)
+         call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//r%out// &
+                       '/checkpoint.h5 at t = '//real_str(r%st%t)//' s, step '//int_str(r%st%istep))
       else
-         if (size(bodies) > 0) then
+         if (size(r%bodies) > 0) then
             ! prescribed bodies start on their function of time at t = 0
-            call bodies_prescribe(bodies, 0.0_rp)
-            call bodies_place(bodies, p)
+            call bodies_prescribe(r%bodies, 0.0_rp)
+            call bodies_place(r%bodies, r%p)
          end if
-         st%n_fluid0 = particles_count_kind(p, kind_fluid)
-         st%h_swl = prm%h_swl
-         st%y_surface = prm%y_surface
+         r%st%n_fluid0 = particles_count_kind(r%p, kind_fluid)
+         r%st%h_swl = r%prm%h_swl
+         r%st%y_surface = r%prm%y_surface
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
          allocate (counts(1), edges(0), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'counts, edges in setup')
-         counts = p%n
+         counts = r%p%n
       end if
       ! every rank holds the whole set until decompose: count it now
-      n_global = p%n
-      n_kind = [particles_count_kind(p, kind_fluid), particles_count_kind(p, kind_fixed), &
-                particles_count_kind(p, kind_moving), particles_count_kind(p, kind_floating)]
-      call walls_init(c%objs, paddle, n_kind(3) > 0, walls)
-      call scene_gauges(c, gt)
-      zone = scene_damping(c)
+      r%n_global = r%p%n
+      r%n_kind = [particles_count_kind(r%p, kind_fluid), particles_count_kind(r%p, kind_fixed), &
+                particles_count_kind(r%p, kind_moving), particles_count_kind(r%p, kind_floating)]
+      call walls_init(c%objs, paddle, r%n_kind(3) > 0, r%walls)
+      call scene_gauges(c, r%gt)
+      r%zone = scene_damping(c)
       ! moving walls start on their motion: position and velocity at t = 0
-      if (walls%moving .and. .not. c%run%restart) call motion_apply(walls, p, 0.0_rp)
-      if (n_kind(1) == 0) call log_line('mbsph: warning: '//trim(c%file)//': the case has '//scene_no_fluid// &
+      if (r%walls%moving .and. .not. c%run%restart) call motion_apply(r%walls, r%p, 0.0_rp)
+      if (r%n_kind(1) == 0) call log_line('mbsph: warning: '//trim(c%file)//': the case has '//scene_no_fluid// &
                                         '; only the bodies and moving walls are simulated')
-      if (comm_rank() == 0) call write_case(out//'/case.nml', c)
+      if (comm_rank() == 0) call write_case(r%out//'/case.nml', c)
       call comm_barrier()
-      case_text = file_text(out//'/case.nml')
-      call decompose(counts, edges)
-      call forces_init(prm)
-      if (size(bodies) > 0) then
-         call contact_init(scene_contact(c), prm, ct)
-         if (c%run%restart) call contact_memory_set(ct, nint(mem(1:2, :)), mem(3:4, :))
-         if (comm_rank() == 0) call bodies_csv_open(out, c%run%restart, st%t)
+      r%case_text = file_text(r%out//'/case.nml')
+      call decompose(r, counts, edges)
+      call forces_init(r%prm)
+      if (size(r%bodies) > 0) then
+         call contact_init(scene_contact(c), r%prm, r%ct)
+         if (c%run%restart) call contact_memory_set(r%ct, nint(mem(1:2, :)), mem(3:4, :))
+         if (comm_rank() == 0) call bodies_csv_open(r%out, c%run%restart, r%st%t)
       end if
-      call banner(c)
+      call banner(r, c)
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (drop(size(p%rho)), stat=ist, errmsg=emsg)
+      allocate (r%drop(size(r%p%rho)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'drop in setup')
       ! text files are rank 0's
-      if (comm_rank() == 0) call energy_open(out, c%run%restart, st%istep)
+      if (comm_rank() == 0) call energy_open(r%out, c%run%restart, r%st%istep)
       if (c%run%restart) then
-         call snapshot_index_rebuild(out, st%isnap)
+         call snapshot_index_rebuild(r%out, r%st%isnap)
       else
-         if (comm_rank() == 0) call armour_csv_write(out, c)
-         call write_outputs(.true., .true.)
+         if (comm_rank() == 0) call armour_csv_write(r%out, c)
+         call write_outputs(r, .true., .true.)
       end if
-      call gauges_start()
+      call gauges_start(r)
       call timer_stop(t_setup)
    end subroutine setup
 
    !> The checkpoint of the present state, with the contacts' slip memory.
-   subroutine checkpoint(dir)
+   subroutine checkpoint(r, dir)
+      type(run_t), intent(inout) :: r
       character(len=*), intent(in) :: dir
       real(rp), allocatable :: mem(:, :)
       ! without bodies the memory is empty and nothing of it is written
-      call contact_memory_get(ct, mem)
-      call checkpoint_write(dir, prm%dp, p, st, bodies, mem, dc%edge)
+      call contact_memory_get(r%ct, mem)
+      call checkpoint_write(dir, r%prm%dp, r%p, r%st, r%bodies, mem, r%dc%edge)
    end subroutine checkpoint
 
    !> A checkpoint every checkpoint_every steps, when asked for.
-   subroutine checkpoint_due()
-      if (rc%checkpoint_every <= 0) return
-      if (mod(st%istep, rc%checkpoint_every) /= 0) return
+   subroutine checkpoint_due(r)
+      type(run_t), intent(inout) :: r
+      if (r%rc%checkpoint_every <= 0) return
+      if (mod(r%st%istep, r%rc%checkpoint_every) /= 0) return
       call timer_start(t_output)
-      call checkpoint(out)
+      call checkpoint(r, r%out)
       call timer_stop(t_output)
    end subroutine checkpoint_due
 
    !> gauges.csv (rank 0's; cut back on restart) and, for a new run, its
    !> first row. The gauges need the particles sorted by cell.
-   subroutine gauges_start()
-      if (gauges_count(gt) == 0) return
-      if (comm_rank() == 0) call gauges_open(gt, out, rc%restart, st%t)
-      t_next_gauge = (floor(st%t/rc%gauge_interval + 1.0e-9_rp) + 1)*rc%gauge_interval
-      if (rc%restart) return
-      drop = .false.
-      call grid_sort(g, p, drop, cells=size(bodies) > 0)
-      call gauges_row()
+   subroutine gauges_start(r)
+      type(run_t), intent(inout) :: r
+      if (gauges_count(r%gt) == 0) return
+      if (comm_rank() == 0) call gauges_open(r%gt, r%out, r%rc%restart, r%st%t)
+      r%t_next_gauge = (floor(r%st%t/r%rc%gauge_interval + 1.0e-9_rp) + 1)*r%rc%gauge_interval
+      if (r%rc%restart) return
+      r%drop = .false.
+      call grid_sort(r%g, r%p, r%drop, cells=size(r%bodies) > 0)
+      call gauges_row(r)
    end subroutine gauges_start
 
    !> A gauges.csv row when one is due.
-   subroutine gauges_due()
-      if (gauges_count(gt) == 0) return
-      if (st%t < t_next_gauge*(1.0_rp - 1.0e-12_rp)) return
+   subroutine gauges_due(r)
+      type(run_t), intent(inout) :: r
+      if (gauges_count(r%gt) == 0) return
+      if (r%st%t < r%t_next_gauge*(1.0_rp - 1.0e-12_rp)) return
       call timer_start(t_output)
-      call gauges_row()
-      t_next_gauge = (floor(st%t/rc%gauge_interval + 1.0e-9_rp) + 1)*rc%gauge_interval
+      call gauges_row(r)
+      r%t_next_gauge = (floor(r%st%t/r%rc%gauge_interval + 1.0e-9_rp) + 1)*r%rc%gauge_interval
       call timer_stop(t_output)
    end subroutine gauges_due
 
    !> The gauges now: each rank's sums, their sum over the ranks, one row by rank 0.
-   subroutine gauges_row()
+   subroutine gauges_row(r)
+      type(run_t), intent(inout) :: r
       real(rp), allocatable :: acc(:)
-      real(rp) :: val(gauges_count(gt))
-      call gauges_sums(gt, prm, g, p, acc)
+      real(rp) :: val(gauges_count(r%gt))
+      call gauges_sums(r%gt, r%prm, r%g, r%p, acc)
       call comm_sum(acc)
-      call gauges_values(gt, prm, acc, val)
-      call gauges_write(gt, st%t, val)
+      call gauges_values(r%gt, r%prm, acc, val)
+      call gauges_write(r%gt, r%st%t, val)
    end subroutine gauges_row
 
    !> Before a step: slab edges (every balance_every steps), removals,
    !> migration, the sort by cell, the halo, the Shepard filter when due.
-   subroutine neighbours()
+   subroutine neighbours(r)
+      type(run_t), intent(inout) :: r
       call timer_start(t_grid)
       ! at step 0 and every balance_every steps (a restart on as many ranks
       ! balances at the same steps as the run it continues)
-      if (comm_size() > 1 .and. rc%balance_every > 0) then
-         if (mod(st%istep, rc%balance_every) == 0) call rebalance()
+      if (comm_size() > 1 .and. r%rc%balance_every > 0) then
+         if (mod(r%st%istep, r%rc%balance_every) == 0) call rebalance(r)
       end if
-      call remove_particles()
-      call comm_halo_migrate(dc, p, drop)
-      call grid_sort(g, p, drop, cells=size(bodies) > 0)
+      call remove_particles(r)
+      call comm_halo_migrate(r%dc, r%p, r%drop)
+      call grid_sort(r%g, r%p, r%drop, cells=size(r%bodies) > 0)
       if (comm_size() > 1) then
-         call comm_halo_build(p, grid_first_column_end(g))
-         if (.not. grid_add_halo(g, p)) call fatal('the halo arrived out of cell order (internal error)')
+         call comm_halo_build(r%p, grid_first_column_end(r%g))
+         if (.not. grid_add_halo(r%g, r%p)) call fatal('the halo arrived out of cell order (internal error)')
       end if
-      if (prm%kgc == kgc_shepard .and. mod(st%istep + 1, prm%shepard_every) == 0) then
-         call ensure_scratch()
-         call shepard_sums(prm, g, p, scratch1, scratch2)
+      if (r%prm%kgc == kgc_shepard .and. mod(r%st%istep + 1, r%prm%shepard_every) == 0) then
+         call ensure_scratch(r)
+         call shepard_sums(r%prm, r%g, r%p, r%scratch1, r%scratch2)
          ! the halo copies' sums to their owners, the new densities back
-         call comm_halo_reverse(scratch2, p%n_own)
-         call comm_halo_reverse(scratch1, p%n_own)
-         call shepard_apply(p, scratch1, scratch2)
-         call comm_halo_forward(p%rho, p%n_own)
+         call comm_halo_reverse(r%scratch2, r%p%n_own)
+         call comm_halo_reverse(r%scratch1, r%p%n_own)
+         call shepard_apply(r%p, r%scratch1, r%scratch2)
+         call comm_halo_forward(r%p%rho, r%p%n_own)
       end if
       call timer_stop(t_grid)
    end subroutine neighbours
@@ -311,16 +323,17 @@ contains
    !> Every rank sees the output folder rank 0 prepared; otherwise all stop
    !> with one message (a rank that cannot open its file would hang the others
    !> in the first collective write).
-   subroutine check_folder_seen(c)
+   subroutine check_folder_seen(r, c)
+      type(run_t), intent(inout) :: r
       type(case_cfg), intent(in) :: c
       real(rp) :: m(2)
       if (comm_size() == 1) return
       ! the first rank that cannot write the folder, and whether there is one
       m = [-huge(1.0_rp), 0.0_rp]
-      if (.not. dir_writable(out)) m = [-real(comm_rank(), rp), 1.0_rp]
+      if (.not. dir_writable(r%out)) m = [-real(comm_rank(), rp), 1.0_rp]
       call comm_max(m)
       if (m(2) > 0.0_rp) call input_error(c%file, 'run', 'out_dir', 'rank '//int_str(nint(-m(1)))// &
-         " cannot write the folder '"//out//"' that rank 0 prepared: give every rank the same working "// &
+         " cannot write the folder '"//r%out//"' that rank 0 prepared: give every rank the same working "// &
          'directory and file system, or an absolute out_dir they all see')
    end subroutine check_folder_seen
 
@@ -377,36 +390,37 @@ contains
    !> particle count of every cell column (a restart on another number of
    !> ranks); each rank keeps its own particles. Sets up the grid of this
    !> rank's slab.
-   subroutine decompose(counts, edges)
+   subroutine decompose(r, counts, edges)
+      type(run_t), intent(inout) :: r
       integer, intent(in) :: counts(:), edges(:)
       integer, allocatable :: hist(:), perm(:)
-      integer :: nr, me, i, k, r, first, nkeep
+      integer :: nr, me, i, k, rk, first, nkeep
       logical :: same, moved
       integer :: ist
       character(len=200) :: emsg
       nr = comm_size()
       me = comm_rank()
-      call grid_init(g, rc%box(1), rc%box(2), rc%box(3), rc%box(4), prm%h)
-      call decomp_init(dc, g%x0, g%cs, g%ncx_all, nr, me)
+      call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h)
+      call decomp_init(r%dc, r%g%x0, r%g%cs, r%g%ncx_all, nr, me)
       if (nr == 1) return
       same = size(counts) == nr .and. size(edges) == nr + 1
-      if (same) same = edges(nr + 1) == g%ncx_all
+      if (same) same = edges(nr + 1) == r%g%ncx_all
       if (same) then
-         call decomp_set_edges(dc, edges)
-      else if (rc%restart .and. rc%balance_every > 0) then
+         call decomp_set_edges(r%dc, edges)
+      else if (r%rc%restart .and. r%rc%balance_every > 0) then
          ! (a new run starts from slabs of equal width and balances at step 0)
-         allocate (hist(0:g%ncx_all - 1), stat=ist, errmsg=emsg)
+         allocate (hist(0:r%g%ncx_all - 1), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'hist in decompose')
          hist = 0
-         do i = 1, p%n
-            k = decomp_column(dc, p%x(1, i))
+         do i = 1, r%p%n
+            k = decomp_column(r%dc, r%p%x(1, i))
             hist(k) = hist(k) + 1
          end do
-         call decomp_balance(dc, hist, moved)
+         call decomp_balance(r%dc, hist, moved)
       end if
       ! the particles of this slab; restarting on as many ranks, this rank's
       ! part of the file first, then the others' (as migration appends them)
-      allocate (perm(p%n), stat=ist, errmsg=emsg)
+      allocate (perm(r%p%n), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'perm in decompose')
       nkeep = 0
       if (same) then
@@ -414,26 +428,26 @@ contains
          do i = first + 1, first + counts(me + 1)
             call keep(i)
          end do
-         do r = 0, nr - 1
-            if (r == me) cycle
-            first = sum(counts(1:r))
-            do i = first + 1, first + counts(r + 1)
+         do rk = 0, nr - 1
+            if (rk == me) cycle
+            first = sum(counts(1:rk))
+            do i = first + 1, first + counts(rk + 1)
                call keep(i)
             end do
          end do
       else
-         do i = 1, p%n
+         do i = 1, r%p%n
             call keep(i)
          end do
       end if
-      call particles_permute(p, perm, nkeep)
-      p%n_own = p%n
-      call grid_init(g, rc%box(1), rc%box(2), rc%box(3), rc%box(4), prm%h, &
-                     decomp_lo(dc), decomp_hi(dc))
+      call particles_permute(r%p, perm, nkeep)
+      r%p%n_own = r%p%n
+      call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h, &
+                     decomp_lo(r%dc), decomp_hi(r%dc))
    contains
       subroutine keep(j)
          integer, intent(in) :: j
-         if (decomp_owner(dc, p%x(1, j)) /= me) return
+         if (decomp_owner(r%dc, r%p%x(1, j)) /= me) return
          nkeep = nkeep + 1
          perm(nkeep) = j
       end subroutine keep
@@ -441,71 +455,75 @@ contains
 
    !> Move the slab edges so that every rank owns about as many particles,
    !> and send the particles to their new owners.
-   subroutine rebalance()
+   subroutine rebalance(r)
+      type(run_t), intent(inout) :: r
       integer, allocatable :: hist(:)
       integer :: i, k
       logical :: moved
       integer :: ist
       character(len=200) :: emsg
-      allocate (hist(0:g%ncx_all - 1), stat=ist, errmsg=emsg)
+      allocate (hist(0:r%g%ncx_all - 1), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'hist in rebalance')
       hist = 0
-      do i = 1, p%n_own
-         k = decomp_column(dc, p%x(1, i))
+      do i = 1, r%p%n_own
+         k = decomp_column(r%dc, r%p%x(1, i))
          hist(k) = hist(k) + 1
       end do
       call comm_sum(hist)
-      call decomp_balance(dc, hist, moved)
+      call decomp_balance(r%dc, hist, moved)
       if (.not. moved) return
-      call comm_halo_redistribute(dc, p)
-      call grid_init(g, rc%box(1), rc%box(2), rc%box(3), rc%box(4), prm%h, &
-                     decomp_lo(dc), decomp_hi(dc))
+      call comm_halo_redistribute(r%dc, r%p)
+      call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h, &
+                     decomp_lo(r%dc), decomp_hi(r%dc))
    end subroutine rebalance
 
    !> The Shepard filter's sums, as large as the particle store (made at its
    !> first use: a case without the filter holds none).
-   subroutine ensure_scratch()
+   subroutine ensure_scratch(r)
+      type(run_t), intent(inout) :: r
       integer :: ist
       character(len=200) :: emsg
-      if (allocated(scratch1)) then
-         if (size(scratch1) >= size(p%rho)) return
-         deallocate (scratch1, scratch2)
+      if (allocated(r%scratch1)) then
+         if (size(r%scratch1) >= size(r%p%rho)) return
+         deallocate (r%scratch1, r%scratch2)
       end if
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (scratch1(size(p%rho)), scratch2(size(p%rho)), stat=ist, errmsg=emsg)
+      allocate (r%scratch1(size(r%p%rho)), r%scratch2(size(r%p%rho)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'scratch1, scratch2 in ensure_scratch')
    end subroutine ensure_scratch
 
-   logical function finished()
-      finished = st%t >= rc%t_end*(1.0_rp - 1.0e-12_rp)
-      if (rc%max_steps > 0) finished = finished .or. st%istep >= rc%max_steps
+   logical function finished(r)
+      type(run_t), intent(in) :: r
+      finished = r%st%t >= r%rc%t_end*(1.0_rp - 1.0e-12_rp)
+      if (r%rc%max_steps > 0) finished = finished .or. r%st%istep >= r%rc%max_steps
    end function finished
 
    !> Fluid particles that left the domain or reached a non-physical density
    !> are taken out, counted (over all ranks) and reported; too many stop the run.
-   subroutine remove_particles()
+   subroutine remove_particles(r)
+      type(run_t), intent(inout) :: r
       integer :: i, nd, nr, cnt(2)
       real(rp) :: x, y
       logical(lk), allocatable :: grown(:)
       integer :: ist
       character(len=200) :: emsg
-      if (size(drop) < size(p%rho)) then
-         allocate (grown(size(p%rho)), stat=ist, errmsg=emsg)
+      if (size(r%drop) < size(r%p%rho)) then
+         allocate (grown(size(r%p%rho)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'grown in remove_particles')
-         call move_alloc(grown, drop)
+         call move_alloc(grown, r%drop)
       end if
       nd = 0
       nr = 0
-      do i = 1, p%n_own
-         drop(i) = .false.
-         if (p%kind(i) /= kind_fluid) cycle
-         x = p%x(1, i)
-         y = p%x(2, i)
-         if (x < rc%box(1) .or. x > rc%box(2) .or. y < rc%box(3) .or. y > rc%box(4)) then
-            drop(i) = .true.
+      do i = 1, r%p%n_own
+         r%drop(i) = .false.
+         if (r%p%kind(i) /= kind_fluid) cycle
+         x = r%p%x(1, i)
+         y = r%p%x(2, i)
+         if (x < r%rc%box(1) .or. x > r%rc%box(2) .or. y < r%rc%box(3) .or. y > r%rc%box(4)) then
+            r%drop(i) = .true.
             nd = nd + 1
-         else if (p%rho(i) < prm%rho_min .or. p%rho(i) > prm%rho_max) then
-            drop(i) = .true.
+         else if (r%p%rho(i) < r%prm%rho_min .or. r%p%rho(i) > r%prm%rho_max) then
+            r%drop(i) = .true.
             nr = nr + 1
          end if
       end do
@@ -514,36 +532,37 @@ contains
       nd = cnt(1)
       nr = cnt(2)
       if (nd + nr == 0) return
-      n_global = n_global - nd - nr
-      st%lost_domain = st%lost_domain + nd
-      st%lost_density = st%lost_density + nr
-      call log_line('step '//int_str(st%istep)//', t = '//real_str(st%t)//' s: removed '//int_str(nd + nr)// &
+      r%n_global = r%n_global - nd - nr
+      r%st%lost_domain = r%st%lost_domain + nd
+      r%st%lost_density = r%st%lost_density + nr
+      call log_line('step '//int_str(r%st%istep)//', t = '//real_str(r%st%t)//' s: removed '//int_str(nd + nr)// &
                     ' fluid particles (left the domain: '//int_str(nd)//', density outside ['// &
-                    real_str(prm%rho_min)//', '//real_str(prm%rho_max)//'] kg/m3: '//int_str(nr)//')')
-      if (st%lost_domain + st%lost_density > rc%max_lost_fraction*st%n_fluid0) then
-         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
-         call fatal('lost '//int_str(st%lost_domain + st%lost_density)//' of '//int_str(st%n_fluid0)// &
-                    ' fluid particles, more than max_lost_fraction = '//real_str(rc%max_lost_fraction)// &
-                    ' (&run); last state written to '//snap_name(out, st%isnap))
+                    real_str(r%prm%rho_min)//', '//real_str(r%prm%rho_max)//'] kg/m3: '//int_str(nr)//')')
+      if (r%st%lost_domain + r%st%lost_density > r%rc%max_lost_fraction*r%st%n_fluid0) then
+         call snapshot_write(r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         call fatal('lost '//int_str(r%st%lost_domain + r%st%lost_density)//' of '//int_str(r%st%n_fluid0)// &
+                    ' fluid particles, more than max_lost_fraction = '//real_str(r%rc%max_lost_fraction)// &
+                    ' (&run); last state written to '//snap_name(r%out, r%st%isnap))
       end if
    end subroutine remove_particles
 
    !> Stop on a NaN or a collapsed time step, leaving a last snapshot. A NaN
    !> is reported by the lowest rank that holds one; the others wait for
    !> its abort.
-   subroutine check_state(dt_floor)
+   subroutine check_state(r, dt_floor)
+      type(run_t), intent(inout) :: r
       real(rp), intent(in) :: dt_floor
       integer :: i, bad
       real(rp) :: who(1)
       character(len=:), allocatable :: what
       what = ''
       bad = 0
-      do i = 1, p%n_own
-         if (ieee_is_nan(p%x(1, i)) .or. ieee_is_nan(p%x(2, i))) then
+      do i = 1, r%p%n_own
+         if (ieee_is_nan(r%p%x(1, i)) .or. ieee_is_nan(r%p%x(2, i))) then
             what = 'position'
-         else if (ieee_is_nan(p%v(1, i)) .or. ieee_is_nan(p%v(2, i))) then
+         else if (ieee_is_nan(r%p%v(1, i)) .or. ieee_is_nan(r%p%v(2, i))) then
             what = 'velocity'
-         else if (ieee_is_nan(p%rho(i))) then
+         else if (ieee_is_nan(r%p%rho(i))) then
             what = 'density'
          else
             cycle
@@ -555,36 +574,38 @@ contains
       if (bad > 0) who = -real(comm_rank(), rp)
       call comm_max(who)
       if (who(1) > -huge(1.0_rp)) then
-         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
+         call snapshot_write(r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
          if (nint(-who(1)) /= comm_rank()) then
             call comm_barrier()        ! never passed: the reporting rank aborts
          end if
-         call fatal('NaN in the '//what//' of particle id '//int_str(p%id(bad))//' ('//kind_name(p%kind(bad))// &
-                    ') at step '//int_str(st%istep)//', t = '//real_str(st%t)//' s; last state written to '// &
-                    snap_name(out, st%isnap))
+         call fatal('NaN in the '//what//' of particle id '//int_str(r%p%id(bad))//' ('//kind_name(r%p%kind(bad))// &
+                    ') at step '//int_str(r%st%istep)//', t = '//real_str(r%st%t)//' s; last state written to '// &
+                    snap_name(r%out, r%st%isnap))
       end if
-      if (st%dt < dt_floor) then
-         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
-         call fatal('the time step fell to '//real_str(st%dt)//' s (below 1e-4 of the acoustic step) at step '// &
-                    int_str(st%istep)//', t = '//real_str(st%t)//' s: the flow has become unstable'// &
-                    ' (try a smaller cfl or more viscosity); last state written to '//snap_name(out, st%isnap))
+      if (r%st%dt < dt_floor) then
+         call snapshot_write(r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         call fatal('the time step fell to '//real_str(r%st%dt)//' s (below 1e-4 of the acoustic step) at step '// &
+                    int_str(r%st%istep)//', t = '//real_str(r%st%t)//' s: the flow has become unstable'// &
+                    ' (try a smaller cfl or more viscosity); last state written to '//snap_name(r%out, r%st%isnap))
       end if
    end subroutine check_state
 
    !> A fixed step above the stable step of the state would make the run
    !> blow up: stop before taking it, with the state (still sound) as the
    !> last snapshot.
-   subroutine refuse_fixed_step(dt_limit)
+   subroutine refuse_fixed_step(r, dt_limit)
+      type(run_t), intent(inout) :: r
       real(rp), intent(in) :: dt_limit
-      call snapshot_write(out, st%isnap, p, prm, st%t, prm%dt_fixed, st%istep, case_text, bodies)
-      call fatal('&numerics dt_fixed = '//real_str(prm%dt_fixed)//' s is above the stable step '// &
-                 real_str(dt_limit)//' s of the state at step '//int_str(st%istep)//', t = '//real_str(st%t)// &
-                 ' s (force, acoustic-viscous and contact limits at cfl = '//real_str(prm%cfl)//'): the run would go'// &
+      call snapshot_write(r%out, r%st%isnap, r%p, r%prm, r%st%t, r%prm%dt_fixed, r%st%istep, r%case_text, r%bodies)
+      call fatal('&numerics dt_fixed = '//real_str(r%prm%dt_fixed)//' s is above the stable step '// &
+                 real_str(dt_limit)//' s of the state at step '//int_str(r%st%istep)//', t = '//real_str(r%st%t)// &
+                 ' s (force, acoustic-viscous and contact limits at cfl = '//real_str(r%prm%cfl)//'): the run would go'// &
                  ' unstable; stopped before the step. Lower dt_fixed or set it to 0 (variable step);'// &
-                 ' last state written to '//snap_name(out, st%isnap))
+                 ' last state written to '//snap_name(r%out, r%st%isnap))
    end subroutine refuse_fixed_step
 
-   subroutine write_outputs(snap, energy)
+   subroutine write_outputs(r, snap, energy)
+      type(run_t), intent(inout) :: r
       logical, intent(in) :: snap, energy
       real(rp) :: ekin, epot, mass, bkin, bpot, e(4), pen(1)
       integer :: i, nf
@@ -593,122 +614,125 @@ contains
       if (snap) then
          ! the pressures of the snapshot; the sound speeds into the force
          ! work array, which the next evaluation overwrites
-         call forces_ensure(w, size(p%rho), prm)
-         call eos_update(prm, p%n, p%rho, p%p, w%cs)
-         call snapshot_write(out, st%isnap, p, prm, st%t, st%dt, st%istep, case_text, bodies)
-         st%isnap = st%isnap + 1
-         st%t_next_snap = (floor(st%t/rc%dt_out + 1.0e-9_rp) + 1)*rc%dt_out
+         call forces_ensure(r%w, size(r%p%rho), r%prm)
+         call eos_update(r%prm, r%p%n, r%p%rho, r%p%p, r%w%cs)
+         call snapshot_write(r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         r%st%isnap = r%st%isnap + 1
+         r%st%t_next_snap = (floor(r%st%t/r%rc%dt_out + 1.0e-9_rp) + 1)*r%rc%dt_out
       end if
       if (energy) then
          ekin = 0.0_rp
          epot = 0.0_rp
          mass = 0.0_rp
          nf = 0
-         do i = 1, p%n_own
-            if (p%kind(i) /= kind_fluid) cycle
-            ekin = ekin + 0.5_rp*p%mass(i)*(p%v(1, i)**2 + p%v(2, i)**2)
-            epot = epot + p%mass(i)*prm%g*p%x(2, i)
-            mass = mass + p%mass(i)
+         do i = 1, r%p%n_own
+            if (r%p%kind(i) /= kind_fluid) cycle
+            ekin = ekin + 0.5_rp*r%p%mass(i)*(r%p%v(1, i)**2 + r%p%v(2, i)**2)
+            epot = epot + r%p%mass(i)*r%prm%g*r%p%x(2, i)
+            mass = mass + r%p%mass(i)
             nf = nf + 1
          end do
          e = [ekin, epot, mass, real(nf, rp)]
          call comm_sum(e)
-         pen = ct%max_penetration
+         pen = r%ct%max_penetration
          call comm_max(pen)
-         call bodies_energy(bodies, bkin, bpot)
-         call energy_row(st%t, st%istep, e(1), e(2), e(3), nint(e(4)), st%lost_domain + st%lost_density, bkin, &
+         call bodies_energy(r%bodies, bkin, bpot)
+         call energy_row(r%st%t, r%st%istep, e(1), e(2), e(3), nint(e(4)), r%st%lost_domain + r%st%lost_density, bkin, &
                          bpot, pen(1))
-         if (size(bodies) > 0) call bodies_csv_row(st%t, bodies)
-         st%ienergy = st%ienergy + 1
-         de = rc%energy_interval
-         st%t_next_energy = (floor(st%t/de + 1.0e-9_rp) + 1)*de
+         if (size(r%bodies) > 0) call bodies_csv_row(r%st%t, r%bodies)
+         r%st%ienergy = r%st%ienergy + 1
+         de = r%rc%energy_interval
+         r%st%t_next_energy = (floor(r%st%t/de + 1.0e-9_rp) + 1)*de
       end if
       call timer_stop(t_output)
    end subroutine write_outputs
 
-   subroutine banner(c)
+   subroutine banner(r, c)
+      type(run_t), intent(inout) :: r
       type(case_cfg), intent(in) :: c
       character(len=:), allocatable :: fx
       call log_line("MBSPH case '"//trim(c%run%case_name)//"' from "//trim(c%file))
-      call log_line('  particles: '//int_str(n_global)//' ('//kind_name(kind_fluid)//' '// &
-                    int_str(n_kind(1))//', '//kind_name(kind_fixed)//' '// &
-                    int_str(n_kind(2))//', '//kind_name(kind_moving)//' '// &
-                    int_str(n_kind(3))//', '//kind_name(kind_floating)//' '// &
-                    int_str(n_kind(4))//')')
-      call log_line('  dp = '//real_str(prm%dp)//' m, h = '//real_str(prm%h)//' m, c0 = '//real_str(prm%c0)// &
-                    ' m/s, h_swl = '//real_str(prm%h_swl)//' m, rho0 = '//real_str(prm%rho0)// &
-                    ' kg/m3, first dt about '//real_str(prm%cfl*prm%h/prm%c0)//' s')
+      call log_line('  particles: '//int_str(r%n_global)//' ('//kind_name(kind_fluid)//' '// &
+                    int_str(r%n_kind(1))//', '//kind_name(kind_fixed)//' '// &
+                    int_str(r%n_kind(2))//', '//kind_name(kind_moving)//' '// &
+                    int_str(r%n_kind(3))//', '//kind_name(kind_floating)//' '// &
+                    int_str(r%n_kind(4))//')')
+      call log_line('  dp = '//real_str(r%prm%dp)//' m, h = '//real_str(r%prm%h)//' m, c0 = '//real_str(r%prm%c0)// &
+                    ' m/s, h_swl = '//real_str(r%prm%h_swl)//' m, rho0 = '//real_str(r%prm%rho0)// &
+                    ' kg/m3, first dt about '//real_str(r%prm%cfl*r%prm%h/r%prm%c0)//' s')
       call log_line('  kernel '//trim(c%numerics%kernel)//', integrator '//trim(c%numerics%integrator)// &
-                    ', cfl '//real_str(prm%cfl)//', ranks '//int_str(comm_size()))
-      if (prm%visc == visc_artificial) then
-         fx = 'artificial viscosity (alpha '//real_str(prm%alpha)//')'
+                    ', cfl '//real_str(r%prm%cfl)//', ranks '//int_str(comm_size()))
+      if (r%prm%visc == visc_artificial) then
+         fx = 'artificial viscosity (alpha '//real_str(r%prm%alpha)//')'
       else
-         fx = 'laminar + SPS viscosity (nu '//real_str(prm%nu)//' m2/s)'
+         fx = 'laminar + SPS viscosity (nu '//real_str(r%prm%nu)//' m2/s)'
       end if
-      if (prm%diffusion /= diff_none) then
+      if (r%prm%diffusion /= diff_none) then
          fx = fx//', density diffusion '//trim(c%numerics%diffusion)//' (delta '//real_str(c%numerics%delta)//')'
       end if
-      if (prm%kgc == kgc_gradient) fx = fx//', kernel gradient correction'
-      if (prm%kgc == kgc_shepard) fx = fx//', Shepard filter every '//int_str(prm%shepard_every)//' steps'
-      if (prm%boundary == bnd_repulsive) fx = fx//', repulsive-force boundary'
-      if (walls%moving) fx = fx//', moving boundaries'
+      if (r%prm%kgc == kgc_gradient) fx = fx//', kernel gradient correction'
+      if (r%prm%kgc == kgc_shepard) fx = fx//', Shepard filter every '//int_str(r%prm%shepard_every)//' steps'
+      if (r%prm%boundary == bnd_repulsive) fx = fx//', repulsive-force boundary'
+      if (r%walls%moving) fx = fx//', moving boundaries'
       if (c%wavemaker%on) fx = fx//', wavemaker ('//trim(c%wavemaker%paddle)//', '//trim(c%wavemaker%wave)//')'
-      if (zone%on) fx = fx//', damping zone x = '//real_str(zone%x0)//' to '//real_str(zone%x1)// &
+      if (r%zone%on) fx = fx//', damping zone x = '//real_str(r%zone%x0)//' to '//real_str(r%zone%x1)// &
                                ' m'
-      if (gauges_count(gt) > 0) fx = fx//', '//int_str(gauges_count(gt))//' gauges every '// &
+      if (gauges_count(r%gt) > 0) fx = fx//', '//int_str(gauges_count(r%gt))//' gauges every '// &
                                      real_str(c%run%gauge_interval)//' s'
-      if (size(bodies) > 0) then
-         fx = fx//', '//int_str(size(bodies))//' rigid bodies, contact '//trim(c%contact%model)// &
-              ' (c0 '//real_str(ct%c)//' m/s, r_f '//real_str(ct%r_f)//')'
+      if (size(r%bodies) > 0) then
+         fx = fx//', '//int_str(size(r%bodies))//' rigid bodies, contact '//trim(c%contact%model)// &
+              ' (c0 '//real_str(r%ct%c)//' m/s, r_f '//real_str(r%ct%r_f)//')'
          if (any(c%bodies(:)%mu > 0.0_rp)) fx = fx//', Coulomb friction'
       end if
-      if (prm%integrator == integ_verlet) fx = fx//', Verlet Euler step every '//int_str(prm%verlet_every)
+      if (r%prm%integrator == integ_verlet) fx = fx//', Verlet Euler step every '//int_str(r%prm%verlet_every)
       call log_line('  effects on: '//fx)
-      if (len(wave_report) > 0) call log_line(wave_report)
+      if (len(r%wave_report) > 0) call log_line(r%wave_report)
       if (c%armour%on) call log_line('  armour: '//int_str(c%layer%n_units)//' '//trim(c%armour%placement)// &
          ' units of dn = '//real_str(c%armour%dn)//' m, density '//real_str(c%armour%density)// &
          ' kg/m3 on a slope of '//real_str(c%layer%alpha*57.29577951308232_rp)//' deg, porosity '// &
          real_str(c%layer%porosity)//' (target '//real_str(c%armour%porosity)//')')
-      call log_line('  output: '//out//', snapshot every '//real_str(c%run%dt_out)//' s until t = '// &
+      call log_line('  output: '//r%out//', snapshot every '//real_str(c%run%dt_out)//' s until t = '// &
                     real_str(c%run%t_end)//' s')
    end subroutine banner
 
-   subroutine progress()
+   subroutine progress(r)
+      type(run_t), intent(inout) :: r
       real(rp) :: wall, rate, eta, frac
       character(len=256) :: line
-      integer :: hh, mm, ss
-      wall = comm_wtime() - st%wall0
-      rate = real(st%particle_steps, rp)/max(wall, 1.0e-9_rp)
-      frac = st%t/rc%t_end
+      integer :: hh, mm, secs
+      wall = comm_wtime() - r%st%wall0
+      rate = real(r%st%particle_steps, rp)/max(wall, 1.0e-9_rp)
+      frac = r%st%t/r%rc%t_end
       eta = 0.0_rp
-      if (st%t > st%t0) eta = wall*(rc%t_end - st%t)/(st%t - st%t0)
-      if (rc%max_steps > 0) then
-         frac = max(frac, real(st%istep, rp)/rc%max_steps)
-         if (st%istep > st%istep0) eta = min(eta, wall*(rc%max_steps - st%istep)/(st%istep - st%istep0))
+      if (r%st%t > r%st%t0) eta = wall*(r%rc%t_end - r%st%t)/(r%st%t - r%st%t0)
+      if (r%rc%max_steps > 0) then
+         frac = max(frac, real(r%st%istep, rp)/r%rc%max_steps)
+         if (r%st%istep > r%st%istep0) eta = min(eta, wall*(r%rc%max_steps - r%st%istep)/(r%st%istep - r%st%istep0))
       end if
       eta = max(eta, 0.0_rp)
       hh = int(eta/3600.0_rp)
       mm = int((eta - 3600.0_rp*hh)/60.0_rp)
-      ss = int(eta - 3600.0_rp*hh - 60.0_rp*mm)
+      secs = int(eta - 3600.0_rp*hh - 60.0_rp*mm)
       write (line, '("t = ",f0.4," s  ",f5.1," %  step ",i0,"  dt ",es9.3," s  ",es9.3, &
-            &" particle-steps/s  ETA ",i0,":",i2.2,":",i2.2)') st%t, 100.0_rp*min(frac, 1.0_rp), st%istep, st%dt, &
-            rate, hh, mm, ss
+            &" particle-steps/s  ETA ",i0,":",i2.2,":",i2.2)') r%st%t, 100.0_rp*min(frac, 1.0_rp), r%st%istep, r%st%dt, &
+            rate, hh, mm, secs
       call log_progress(trim(line))
    end subroutine progress
 
-   subroutine summary()
+   subroutine summary(r)
+      type(run_t), intent(inout) :: r
       real(rp) :: wall, tt, ratio(2), busy(comm_size())
       integer :: k, counts(comm_size()), at_step(2)
       character(len=160) :: line
-      wall = comm_wtime() - st%wall0
-      call comm_allgather(p%n_own, counts)
-      call log_line('done: t = '//real_str(st%t)//' s after '//int_str(st%istep)//' steps; fluid particles lost: '// &
-                    int_str(st%lost_domain + st%lost_density))
-      call step_dt_ratio(ss, ratio, at_step)
+      wall = comm_wtime() - r%st%wall0
+      call comm_allgather(r%p%n_own, counts)
+      call log_line('done: t = '//real_str(r%st%t)//' s after '//int_str(r%st%istep)//' steps; fluid particles lost: '// &
+                    int_str(r%st%lost_domain + r%st%lost_density))
+      call step_dt_ratio(r%ss, ratio, at_step)
       write (line, '("time step: largest dt / CFL limit of a state it reached ",f0.4," (step ",i0, &
-            &"), Courant number ",f0.4," (cfl ",f0.3,")")') ratio(1), at_step(1), ratio(1)*prm%cfl, prm%cfl
+            &"), Courant number ",f0.4," (cfl ",f0.3,")")') ratio(1), at_step(1), ratio(1)*r%prm%cfl, r%prm%cfl
       call log_line(trim(line))
-      if (size(bodies) > 0) then
+      if (size(r%bodies) > 0) then
          write (line, '("time step: largest dt / every limit, contacts too, of a state it reached ",f0.4, &
                &" (step ",i0,")")') ratio(2), at_step(2)
          call log_line(trim(line))
@@ -736,9 +760,9 @@ contains
          write (line, '(4x,a12,f12.3,f8.1," %")') timer_label(k), tt, 100.0_rp*tt/max(wall + timer_get(t_setup), 1.0e-9_rp)
          call log_line(trim(line))
       end do
-      if (st%particle_steps > 0_i8) then
+      if (r%st%particle_steps > 0_i8) then
          write (line, '("cost: ",f0.4," microseconds per particle-step (",i0," particle-steps in ",f0.3," s)")') &
-            1.0e6_rp*wall/real(st%particle_steps, rp), st%particle_steps, wall
+            1.0e6_rp*wall/real(r%st%particle_steps, rp), r%st%particle_steps, wall
          call log_line(trim(line))
       end if
    end subroutine summary
