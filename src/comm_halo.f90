@@ -24,7 +24,7 @@ module comm_halo
    use errors, only: fatal, alloc_check
    implicit none
    private
-   public :: comm_halo_migrate, comm_halo_build, comm_halo_refresh, comm_halo_forward, comm_halo_reverse, &
+   public :: halo_t, comm_halo_migrate, comm_halo_build, comm_halo_refresh, comm_halo_forward, comm_halo_reverse, &
              comm_halo_redistribute
 
    interface comm_halo_forward
@@ -34,9 +34,14 @@ module comm_halo
       module procedure reverse_1, reverse_2
    end interface comm_halo_reverse
 
-   integer :: n_send = 0                 !< owned particles 1 .. n_send are the left neighbour's halo
-   integer :: n_recv = 0                 !< halo particles n_own+1 .. n_own+n_recv
-   real(rp), allocatable :: sbuf(:), rbuf(:), sbuf2(:), rbuf2(:)
+   !> The halo of this rank: how many particles go to the left neighbour and
+   !> come from the right one, and the message buffers (kept between
+   !> exchanges so that they are allocated once).
+   type :: halo_t
+      integer :: n_send = 0                 !< owned particles 1 .. n_send are the left neighbour's halo
+      integer :: n_recv = 0                 !< halo particles n_own+1 .. n_own+n_recv
+      real(rp), allocatable :: sbuf(:), rbuf(:), sbuf2(:), rbuf2(:)
+   end type halo_t
 
 contains
 
@@ -72,7 +77,8 @@ contains
    !> Particles that crossed a slab edge go to the neighbour that owns them
    !> now: marked in drop here (the sort removes them), appended on the
    !> neighbour, those from the left first. The halo is forgotten first.
-   subroutine comm_halo_migrate(dc, p, drop)
+   subroutine comm_halo_migrate(h, dc, p, drop)
+      type(halo_t), intent(inout) :: h
       type(decomp_t), intent(in) :: dc
       type(particles_t), intent(inout) :: p
       logical(lk), allocatable, intent(inout) :: drop(:)
@@ -85,8 +91,8 @@ contains
       nfull = particles_width(p, .false.)     ! every field a particle takes with it
       me = comm_rank()
       p%n = p%n_own
-      n_send = 0
-      n_recv = 0
+      h%n_send = 0
+      h%n_recv = 0
       nl = 0
       nr = 0
       do i = 1, p%n
@@ -94,12 +100,12 @@ contains
          d = decomp_owner(dc, p%x(1, i))
          if (d == me) cycle
          if (d == me - 1) then
-            call ensure_keep(sbuf, (nl + 1)*nfull)
-            call particles_pack(p, i, .false., sbuf, nl*nfull + 1)
+            call ensure_keep(h%sbuf, (nl + 1)*nfull)
+            call particles_pack(p, i, .false., h%sbuf, nl*nfull + 1)
             nl = nl + 1
          else if (d == me + 1) then
-            call ensure_keep(sbuf2, (nr + 1)*nfull)
-            call particles_pack(p, i, .false., sbuf2, nr*nfull + 1)
+            call ensure_keep(h%sbuf2, (nr + 1)*nfull)
+            call particles_pack(p, i, .false., h%sbuf2, nr*nfull + 1)
             nr = nr + 1
          else
             call fatal('particle id '//istr(p%id(i))//' moved past a whole slab in one step (from rank '// &
@@ -107,18 +113,18 @@ contains
          end if
          drop(i) = .true.
       end do
-      call ensure(sbuf, 1)
-      call ensure(sbuf2, 1)
+      call ensure(h%sbuf, 1)
+      call ensure(h%sbuf2, 1)
       ! to the left, from the right
       rr = 0
       call comm_sendrecv(nl, left(), rr, right())
       ! to the right, from the left
       rl = 0
       call comm_sendrecv(nr, right(), rl, left())
-      call ensure(rbuf, max(rr, 1)*nfull)
-      call ensure(rbuf2, max(rl, 1)*nfull)
-      call comm_sendrecv(sbuf, nl*nfull, left(), rbuf, rr*nfull, right())
-      call comm_sendrecv(sbuf2, nr*nfull, right(), rbuf2, rl*nfull, left())
+      call ensure(h%rbuf, max(rr, 1)*nfull)
+      call ensure(h%rbuf2, max(rl, 1)*nfull)
+      call comm_sendrecv(h%sbuf, nl*nfull, left(), h%rbuf, rr*nfull, right())
+      call comm_sendrecv(h%sbuf2, nr*nfull, right(), h%rbuf2, rl*nfull, left())
       call particles_grow(p, rl + rr)
       if (size(drop) < size(p%rho)) then
          allocate (grown(size(p%rho)), stat=ist, errmsg=emsg)
@@ -128,12 +134,12 @@ contains
       end if
       do k = 1, rl
          p%n = p%n + 1
-         call particles_unpack(p, p%n, .false., rbuf2, (k - 1)*nfull + 1)
+         call particles_unpack(p, p%n, .false., h%rbuf2, (k - 1)*nfull + 1)
          drop(p%n) = .false.
       end do
       do k = 1, rr
          p%n = p%n + 1
-         call particles_unpack(p, p%n, .false., rbuf, (k - 1)*nfull + 1)
+         call particles_unpack(p, p%n, .false., h%rbuf, (k - 1)*nfull + 1)
          drop(p%n) = .false.
       end do
       p%n_own = p%n
@@ -143,30 +149,31 @@ contains
    !> After the sort: the first nfirst owned particles (the slab's first
    !> column) go to the left neighbour as its halo; the right neighbour's
    !> arrive after the owned particles.
-   subroutine comm_halo_build(p, nfirst)
+   subroutine comm_halo_build(h, p, nfirst)
+      type(halo_t), intent(inout) :: h
       type(particles_t), intent(inout) :: p
       integer, intent(in) :: nfirst
       integer :: i, k, m, nhalo
       if (comm_size() == 1) return
       call timer_start(t_comm)
       nhalo = particles_width(p, .true.)      ! the fields the pair loops read
-      n_send = 0
-      if (left() /= comm_no_rank) n_send = nfirst
-      call ensure(sbuf, max(n_send, 1)*nhalo)
-      do i = 1, n_send
+      h%n_send = 0
+      if (left() /= comm_no_rank) h%n_send = nfirst
+      call ensure(h%sbuf, max(h%n_send, 1)*nhalo)
+      do i = 1, h%n_send
          k = (i - 1)*nhalo
-         call particles_pack(p, i, .true., sbuf, k + 1)
+         call particles_pack(p, i, .true., h%sbuf, k + 1)
       end do
-      n_recv = 0
-      call comm_sendrecv(n_send, left(), n_recv, right())
-      call ensure(rbuf, max(n_recv, 1)*nhalo)
-      call comm_sendrecv(sbuf, n_send*nhalo, left(), rbuf, n_recv*nhalo, right())
+      h%n_recv = 0
+      call comm_sendrecv(h%n_send, left(), h%n_recv, right())
+      call ensure(h%rbuf, max(h%n_recv, 1)*nhalo)
+      call comm_sendrecv(h%sbuf, h%n_send*nhalo, left(), h%rbuf, h%n_recv*nhalo, right())
       p%n = p%n_own
-      call particles_grow(p, n_recv)
-      do m = 1, n_recv
+      call particles_grow(p, h%n_recv)
+      do m = 1, h%n_recv
          i = p%n_own + m
          k = (m - 1)*nhalo
-         call particles_unpack(p, i, .true., rbuf, k + 1)
+         call particles_unpack(p, i, .true., h%rbuf, k + 1)
          ! the fields the halo does not carry: defined, never read
          p%p(i) = 0.0_rp
          if (p%history) then
@@ -174,93 +181,99 @@ contains
             p%rhom1(i) = p%rho(i)
          end if
       end do
-      p%n = p%n_own + n_recv
+      p%n = p%n_own + h%n_recv
       call timer_stop(t_comm)
    end subroutine comm_halo_build
 
    !> New positions, velocities and densities of the halo (between the two
    !> force evaluations of a step).
-   subroutine comm_halo_refresh(p)
+   subroutine comm_halo_refresh(h, p)
+      type(halo_t), intent(inout) :: h
       type(particles_t), intent(inout) :: p
       integer :: i, k
       if (comm_size() == 1) return
       call timer_start(t_comm)
-      call ensure(sbuf, max(n_send, 1)*5)
-      call ensure(rbuf, max(n_recv, 1)*5)
-      do i = 1, n_send
+      call ensure(h%sbuf, max(h%n_send, 1)*5)
+      call ensure(h%rbuf, max(h%n_recv, 1)*5)
+      do i = 1, h%n_send
          k = (i - 1)*5
-         sbuf(k + 1:k + 5) = [p%x(:, i), p%v(:, i), p%rho(i)]
+         h%sbuf(k + 1:k + 5) = [p%x(:, i), p%v(:, i), p%rho(i)]
       end do
-      call comm_sendrecv(sbuf, n_send*5, left(), rbuf, n_recv*5, right())
-      do i = 1, n_recv
+      call comm_sendrecv(h%sbuf, h%n_send*5, left(), h%rbuf, h%n_recv*5, right())
+      do i = 1, h%n_recv
          k = (i - 1)*5
-         p%x(:, p%n_own + i) = rbuf(k + 1:k + 2)
-         p%v(:, p%n_own + i) = rbuf(k + 3:k + 4)
-         p%rho(p%n_own + i) = rbuf(k + 5)
+         p%x(:, p%n_own + i) = h%rbuf(k + 1:k + 2)
+         p%v(:, p%n_own + i) = h%rbuf(k + 3:k + 4)
+         p%rho(p%n_own + i) = h%rbuf(k + 5)
       end do
       call timer_stop(t_comm)
    end subroutine comm_halo_refresh
 
    !> Owner's values of a per-particle array to the halo copies.
-   subroutine forward_2(a, n_own)
+   subroutine forward_2(h, a, n_own)
+      type(halo_t), intent(inout) :: h
       real(rp), intent(inout) :: a(:, :)
       integer, intent(in) :: n_own
       integer :: m
       if (comm_size() == 1) return
       call timer_start(t_comm)
       m = size(a, 1)
-      call ensure(sbuf, max(n_send, 1)*m)
-      call ensure(rbuf, max(n_recv, 1)*m)
-      sbuf(1:n_send*m) = reshape(a(:, 1:n_send), [n_send*m])
-      call comm_sendrecv(sbuf, n_send*m, left(), rbuf, n_recv*m, right())
-      a(:, n_own + 1:n_own + n_recv) = reshape(rbuf(1:n_recv*m), [m, n_recv])
+      call ensure(h%sbuf, max(h%n_send, 1)*m)
+      call ensure(h%rbuf, max(h%n_recv, 1)*m)
+      h%sbuf(1:h%n_send*m) = reshape(a(:, 1:h%n_send), [h%n_send*m])
+      call comm_sendrecv(h%sbuf, h%n_send*m, left(), h%rbuf, h%n_recv*m, right())
+      a(:, n_own + 1:n_own + h%n_recv) = reshape(h%rbuf(1:h%n_recv*m), [m, h%n_recv])
       call timer_stop(t_comm)
    end subroutine forward_2
 
-   subroutine forward_1(a, n_own)
+   subroutine forward_1(h, a, n_own)
+      type(halo_t), intent(inout) :: h
       real(rp), intent(inout) :: a(:)
       integer, intent(in) :: n_own
       if (comm_size() == 1) return
       call timer_start(t_comm)
-      call ensure(rbuf, max(n_recv, 1))
-      call comm_sendrecv(a, n_send, left(), rbuf, n_recv, right())
-      a(n_own + 1:n_own + n_recv) = rbuf(1:n_recv)
+      call ensure(h%rbuf, max(h%n_recv, 1))
+      call comm_sendrecv(a, h%n_send, left(), h%rbuf, h%n_recv, right())
+      a(n_own + 1:n_own + h%n_recv) = h%rbuf(1:h%n_recv)
       call timer_stop(t_comm)
    end subroutine forward_1
 
    !> What the pair loops added to the halo copies, added on the owner.
-   subroutine reverse_2(a, n_own)
+   subroutine reverse_2(h, a, n_own)
+      type(halo_t), intent(inout) :: h
       real(rp), intent(inout) :: a(:, :)
       integer, intent(in) :: n_own
       integer :: m
       if (comm_size() == 1) return
       call timer_start(t_comm)
       m = size(a, 1)
-      call ensure(sbuf, max(n_recv, 1)*m)
-      call ensure(rbuf, max(n_send, 1)*m)
-      sbuf(1:n_recv*m) = reshape(a(:, n_own + 1:n_own + n_recv), [n_recv*m])
-      call comm_sendrecv(sbuf, n_recv*m, right(), rbuf, n_send*m, left())
-      a(:, 1:n_send) = a(:, 1:n_send) + reshape(rbuf(1:n_send*m), [m, n_send])
+      call ensure(h%sbuf, max(h%n_recv, 1)*m)
+      call ensure(h%rbuf, max(h%n_send, 1)*m)
+      h%sbuf(1:h%n_recv*m) = reshape(a(:, n_own + 1:n_own + h%n_recv), [h%n_recv*m])
+      call comm_sendrecv(h%sbuf, h%n_recv*m, right(), h%rbuf, h%n_send*m, left())
+      a(:, 1:h%n_send) = a(:, 1:h%n_send) + reshape(h%rbuf(1:h%n_send*m), [m, h%n_send])
       call timer_stop(t_comm)
    end subroutine reverse_2
 
-   subroutine reverse_1(a, n_own)
+   subroutine reverse_1(h, a, n_own)
+      type(halo_t), intent(inout) :: h
       real(rp), intent(inout) :: a(:)
       integer, intent(in) :: n_own
       if (comm_size() == 1) return
       call timer_start(t_comm)
-      call ensure(sbuf, max(n_recv, 1))
-      call ensure(rbuf, max(n_send, 1))
-      sbuf(1:n_recv) = a(n_own + 1:n_own + n_recv)
-      call comm_sendrecv(sbuf, n_recv, right(), rbuf, n_send, left())
-      a(1:n_send) = a(1:n_send) + rbuf(1:n_send)
+      call ensure(h%sbuf, max(h%n_recv, 1))
+      call ensure(h%rbuf, max(h%n_send, 1))
+      h%sbuf(1:h%n_recv) = a(n_own + 1:n_own + h%n_recv)
+      call comm_sendrecv(h%sbuf, h%n_recv, right(), h%rbuf, h%n_send, left())
+      a(1:h%n_send) = a(1:h%n_send) + h%rbuf(1:h%n_send)
       call timer_stop(t_comm)
    end subroutine reverse_1
 
    !> After the slab edges moved: every owned particle to the rank that owns
    !> it now. Those that stay keep their order; the arrivals follow in the
    !> order of their senders' ranks. The halo is forgotten.
-   subroutine comm_halo_redistribute(dc, p)
+   subroutine comm_halo_redistribute(h, dc, p)
+      type(halo_t), intent(inout) :: h
       type(decomp_t), intent(in) :: dc
       type(particles_t), intent(inout) :: p
       integer :: i, d, me, nr, k, m, nkeep
@@ -273,8 +286,8 @@ contains
       me = comm_rank()
       nr = comm_size()
       p%n = p%n_own
-      n_send = 0
-      n_recv = 0
+      h%n_send = 0
+      h%n_recv = 0
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (scount(0:nr - 1), rcount(0:nr - 1), sdispl(0:nr - 1), rdispl(0:nr - 1), dest(p%n), fill(0:nr - 1), &
                 stat=ist, errmsg=emsg)
@@ -294,8 +307,8 @@ contains
          sdispl(d) = sdispl(d - 1) + scount(d - 1)
          rdispl(d) = rdispl(d - 1) + rcount(d - 1)
       end do
-      call ensure(sbuf, max(sum(scount), 1)*nfull)
-      call ensure(rbuf, max(sum(rcount), 1)*nfull)
+      call ensure(h%sbuf, max(sum(scount), 1)*nfull)
+      call ensure(h%rbuf, max(sum(rcount), 1)*nfull)
       fill = sdispl
       nkeep = 0
       do i = 1, p%n
@@ -304,17 +317,17 @@ contains
             nkeep = nkeep + 1
             if (nkeep /= i) call particles_copy(p, i, nkeep)
          else
-            call particles_pack(p, i, .false., sbuf, fill(d)*nfull + 1)
+            call particles_pack(p, i, .false., h%sbuf, fill(d)*nfull + 1)
             fill(d) = fill(d) + 1
          end if
       end do
-      call comm_alltoallv(sbuf, scount*nfull, sdispl*nfull, rbuf, rcount*nfull, rdispl*nfull)
+      call comm_alltoallv(h%sbuf, scount*nfull, sdispl*nfull, h%rbuf, rcount*nfull, rdispl*nfull)
       p%n = nkeep
       m = sum(rcount)
       call particles_grow(p, m)
       do k = 1, m
          p%n = p%n + 1
-         call particles_unpack(p, p%n, .false., rbuf, (k - 1)*nfull + 1)
+         call particles_unpack(p, p%n, .false., h%rbuf, (k - 1)*nfull + 1)
       end do
       p%n_own = p%n
       call timer_stop(t_comm)

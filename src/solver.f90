@@ -18,7 +18,7 @@ module solver
    use io_bodies, only: bodies_csv_row, bodies_csv_close
    use grid, only: grid_t, grid_init, grid_sort, grid_first_column_end, grid_add_halo
    use decomp, only: decomp_t, decomp_column, decomp_balance, decomp_lo, decomp_hi
-   use comm_halo, only: comm_halo_migrate, comm_halo_build, comm_halo_redistribute, comm_halo_reverse, &
+   use comm_halo, only: halo_t, comm_halo_migrate, comm_halo_build, comm_halo_redistribute, comm_halo_reverse, &
                         comm_halo_forward
    use eos, only: eos_update
    use fluid_forces, only: forces_work_t, forces_ensure
@@ -47,6 +47,7 @@ module solver
       type(run_ctl_t) :: rc                     !< the course of the run the case asks for
       type(params_t) :: prm
       type(particles_t) :: p
+      type(halo_t) :: halo                      !< this rank's halo: counts and message buffers
       type(grid_t) :: g
       type(forces_work_t) :: w
       type(step_state_t) :: ss
@@ -90,7 +91,7 @@ contains
       written = .true.
       do while (.not. done)
          call neighbours(r)
-         call step_advance(r%prm, r%g, r%p, r%w, r%ss, r%walls, r%bodies, r%ct, r%st%t, r%st%istep + 1, r%st%dt)
+         call step_advance(r%prm, r%g, r%p, r%halo, r%w, r%ss, r%walls, r%bodies, r%ct, r%st%t, r%st%istep + 1, r%st%dt)
          if (r%st%dt > r%ss%dt_limit) call refuse_fixed_step(r, r%ss%dt_limit)
          if (size(r%bodies) > 0) call contact_memory_advance(r%ct, r%bodies, r%st%dt)
          if (r%zone%on) call damping_apply(r%zone, r%p, r%st%dt)
@@ -192,20 +193,20 @@ contains
          if (mod(r%st%istep, r%rc%balance_every) == 0) call rebalance(r)
       end if
       call remove_particles(r)
-      call comm_halo_migrate(r%dc, r%p, r%drop)
+      call comm_halo_migrate(r%halo, r%dc, r%p, r%drop)
       call grid_sort(r%g, r%p, r%drop, cells=size(r%bodies) > 0)
       if (comm_size() > 1) then
-         call comm_halo_build(r%p, grid_first_column_end(r%g))
+         call comm_halo_build(r%halo, r%p, grid_first_column_end(r%g))
          if (.not. grid_add_halo(r%g, r%p)) call fatal('the halo arrived out of cell order (internal error)')
       end if
       if (r%prm%kgc == kgc_shepard .and. mod(r%st%istep + 1, r%prm%shepard_every) == 0) then
          call ensure_scratch(r)
          call shepard_sums(r%prm, r%g, r%p, r%scratch1, r%scratch2)
          ! the halo copies' sums to their owners, the new densities back
-         call comm_halo_reverse(r%scratch2, r%p%n_own)
-         call comm_halo_reverse(r%scratch1, r%p%n_own)
+         call comm_halo_reverse(r%halo, r%scratch2, r%p%n_own)
+         call comm_halo_reverse(r%halo, r%scratch1, r%p%n_own)
          call shepard_apply(r%p, r%scratch1, r%scratch2)
-         call comm_halo_forward(r%p%rho, r%p%n_own)
+         call comm_halo_forward(r%halo, r%p%rho, r%p%n_own)
       end if
       call timer_stop(t_grid)
    end subroutine neighbours
@@ -229,7 +230,7 @@ contains
       call comm_sum(hist)
       call decomp_balance(r%dc, hist, moved)
       if (.not. moved) return
-      call comm_halo_redistribute(r%dc, r%p)
+      call comm_halo_redistribute(r%halo, r%dc, r%p)
       call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h, &
                      decomp_lo(r%dc), decomp_hi(r%dc))
    end subroutine rebalance

@@ -21,7 +21,7 @@ module step
    use comm, only: comm_max, comm_size, comm_sum, comm_allgatherv
    use errors, only: fatal, alloc_check
    use input_check, only: int_str
-   use comm_halo, only: comm_halo_reverse, comm_halo_forward, comm_halo_refresh
+   use comm_halo, only: halo_t, comm_halo_reverse, comm_halo_forward, comm_halo_refresh
    implicit none
    private
    public :: step_state_t, step_advance, step_dt_ratio
@@ -43,10 +43,11 @@ contains
    !> ss%dt_limit, the stable step of the state at t. istep is the number of the
    !> step being taken (1 for the first). A fixed step above ss%dt_limit is not
    !> taken: the particles and bodies are left as they were at t.
-   subroutine step_advance(prm, g, p, w, ss, walls, bodies, ct, t, istep, dt)
+   subroutine step_advance(prm, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
+      type(halo_t), intent(inout) :: halo
       type(forces_work_t), intent(inout) :: w
       type(step_state_t), intent(inout) :: ss
       type(walls_t), intent(in) :: walls
@@ -57,9 +58,9 @@ contains
       real(rp), intent(out) :: dt
       select case (prm%integrator)
       case (integ_verlet)
-         call verlet(prm, g, p, w, ss, walls, bodies, ct, t, istep, dt)
+         call verlet(prm, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
       case (integ_symplectic, integ_predictor_corrector)
-         call two_stage(prm, g, p, w, ss, walls, bodies, ct, t, istep, dt)
+         call two_stage(prm, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
       case default  ! none: params sets one of the three (options)
          call fatal('internal error: integrator '//int_str(prm%integrator)//' has no scheme')
       end select
@@ -117,10 +118,11 @@ contains
 
    !> Forces of one stage: the pair loop, then (only when the case has
    !> bodies) the fluid force on each body and the contacts.
-   subroutine evaluate(prm, g, p, w, bodies, ct)
+   subroutine evaluate(prm, g, p, halo, w, bodies, ct)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
+      type(halo_t), intent(inout) :: halo
       type(forces_work_t), intent(inout) :: w
       type(body_t), intent(inout) :: bodies(:)
       type(contact_t), intent(inout) :: ct
@@ -132,11 +134,11 @@ contains
          ! the pass before the forces: the sums of the halo copies belong to
          ! the next rank's particles, and what they give is copied back; the
          ! slab's first and last columns waited for these
-         if (prm%kgc == kgc_gradient) call comm_halo_reverse(w%lm, p%n_own)
-         if (prm%visc == visc_laminar_sps) call comm_halo_reverse(w%gv, p%n_own)
+         if (prm%kgc == kgc_gradient) call comm_halo_reverse(halo, w%lm, p%n_own)
+         if (prm%visc == visc_laminar_sps) call comm_halo_reverse(halo, w%gv, p%n_own)
          call forces_sweep_first(prm, g, p, w)
-         if (prm%kgc == kgc_gradient) call comm_halo_forward(w%lm, p%n_own)
-         if (prm%visc == visc_laminar_sps) call comm_halo_forward(w%tau, p%n_own)
+         if (prm%kgc == kgc_gradient) call comm_halo_forward(halo, w%lm, p%n_own)
+         if (prm%visc == visc_laminar_sps) call comm_halo_forward(halo, w%tau, p%n_own)
       end if
       call forces_sweep_last(prm, g, p, w)
       call timer_stop(t_pairs)
@@ -153,8 +155,8 @@ contains
          call timer_stop(t_bodies)
       end if
       ! the pairs' share of the halo particles, to their owners
-      call comm_halo_reverse(w%acc, p%n_own)
-      call comm_halo_reverse(w%drho, p%n_own)
+      call comm_halo_reverse(halo, w%acc, p%n_own)
+      call comm_halo_reverse(halo, w%drho, p%n_own)
       if (size(bodies) == 0) return
       call timer_start(t_bodies)
       call bodies_fluid_forces(bodies, p, w%acc)
@@ -229,10 +231,11 @@ contains
 
    !> Symplectic (position Verlet, as in DualSPHysics) or the
    !> predictor-corrector of SPHysics; both evaluate forces twice a step.
-   subroutine two_stage(prm, g, p, w, ss, walls, bodies, ct, t, istep, dt)
+   subroutine two_stage(prm, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
+      type(halo_t), intent(inout) :: halo
       type(forces_work_t), intent(inout) :: w
       type(step_state_t), intent(inout) :: ss
       type(walls_t), intent(in) :: walls
@@ -245,7 +248,7 @@ contains
       real(rp) :: hdt, eps, lim, lim_cfl
       logical :: symplectic
       symplectic = prm%integrator /= integ_predictor_corrector
-      call evaluate(prm, g, p, w, bodies, ct)
+      call evaluate(prm, g, p, halo, w, bodies, ct)
       call first_stage(prm, p, w, ss, bodies, ct, istep, dt)
       if (dt > ss%dt_limit) return
       hdt = 0.5_rp*dt
@@ -269,8 +272,8 @@ contains
          call bodies_place(bodies, p)
       end if
       call timer_stop(t_integrate)
-      call comm_halo_refresh(p)
-      call evaluate(prm, g, p, w, bodies, ct)
+      call comm_halo_refresh(halo, p)
+      call evaluate(prm, g, p, halo, w, bodies, ct)
       ! the step against the limits of the state at its middle
       lim = stage_dt(prm, p, w, bodies, ct, lim_cfl)
       call note_ratio(ss, dt, [lim_cfl, lim], istep)
@@ -313,10 +316,11 @@ contains
 
    !> Verlet: a leapfrog over two steps, with an Euler step every
    !> verlet_every steps to keep the two interleaved solutions together.
-   subroutine verlet(prm, g, p, w, ss, walls, bodies, ct, t, istep, dt)
+   subroutine verlet(prm, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
+      type(halo_t), intent(inout) :: halo
       type(forces_work_t), intent(inout) :: w
       type(step_state_t), intent(inout) :: ss
       type(walls_t), intent(in) :: walls
@@ -328,7 +332,7 @@ contains
       integer :: i
       real(rp) :: vnew(2), rnew, dt2, hdt2
       logical :: euler
-      call evaluate(prm, g, p, w, bodies, ct)
+      call evaluate(prm, g, p, halo, w, bodies, ct)
       call first_stage(prm, p, w, ss, bodies, ct, istep, dt)
       if (dt > ss%dt_limit) return
       call timer_start(t_integrate)
