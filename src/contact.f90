@@ -12,7 +12,7 @@ module contact
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
    use kinds, only: rp
-   use constants, only: kind_fluid, kind_floating
+   use constants, only: kind_fluid, kind_floating, ndim
    use params, only: params_t
    use grid, only: grid_t, grid_ranges
    use particles, only: particles_t
@@ -73,7 +73,7 @@ contains
       type(body_t), intent(inout) :: bodies(:)
       real(rp), intent(inout) :: drho(:)
       integer :: i, j, c, r, jlo(2), jhi(2), bi, k
-      real(rp) :: d(2), r2
+      real(rp) :: d(ndim), r2
       do k = 1, size(bodies)
          bodies(k)%f_normal = 0.0_rp; bodies(k)%t_normal = 0.0_rp
          bodies(k)%f_fric = 0.0_rp; bodies(k)%t_fric = 0.0_rp
@@ -97,7 +97,7 @@ contains
                if (p%body(j) == p%body(i)) cycle partners
                if (p%kind(i) /= kind_floating .and. p%kind(j) /= kind_floating) cycle partners
                d = p%x(:, i) - p%x(:, j)
-               r2 = d(1)**2 + d(2)**2
+               r2 = dot_product(d, d)
                if (r2 >= prm%support2) cycle partners
                call store_candidate(ct, i, j, bi, body_of(bodies, p%body(j)))
             end do partners

@@ -9,7 +9,7 @@ module fluid_forces
    use kinds, only: rp
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
-   use constants, only: kind_fluid
+   use constants, only: kind_fluid, ndim
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive
    use grid, only: grid_t, grid_ranges, grid_last_cell
    use particles, only: particles_t
@@ -43,16 +43,16 @@ module fluid_forces
    abstract interface
       subroutine pairs_iface(n, g, nb, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, &
                              h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
-         import :: rp, n_rep, grid_t, nbr_t
+         import :: rp, n_rep, grid_t, nbr_t, ndim
          implicit none
          integer, intent(in) :: n
          type(grid_t), intent(in) :: g
          type(nbr_t), intent(in) :: nb
-         real(rp), intent(in) :: x(2, n), v(2, n), rho(n), irho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
-         real(rp), intent(in) :: nrm(2, n)
+         real(rp), intent(in) :: x(ndim, n), v(ndim, n), rho(n), irho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
+         real(rp), intent(in) :: nrm(ndim, n)
          integer, intent(in) :: kind(n), surf(n)
          real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
-         real(rp), intent(inout) :: acc(2, n), drho(n)
+         real(rp), intent(inout) :: acc(ndim, n), drho(n)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_iface
    end interface

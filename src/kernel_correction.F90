@@ -3,7 +3,7 @@
 !> Shepard density filter.
 module kernel_correction
    use kinds, only: rp
-   use constants, only: kind_fluid
+   use constants, only: kind_fluid, ndim
    use params, only: params_t
    use kernel, only: kernel_cubic
    use grid, only: grid_t, grid_ranges, grid_last_cell

@@ -14,6 +14,7 @@
 !> one cell column (fluid_forces keeps a window of a few columns' lists).
 module nbr_list
    use kinds, only: rp
+   use constants, only: ndim
    use errors, only: alloc_check
    use grid, only: grid_t, grid_ranges, grid_last_cell
    use kernel, only: kernel_cubic
@@ -48,7 +49,7 @@ contains
       real(rp), intent(in) :: h, support2, fw
       integer, intent(in), optional :: col
       integer :: c, i, j, r, m, jlo(2), jhi(2), need, c_lo, c_hi, rows
-      real(rp) :: xi, yi, dx, dy, r2, q, hinv
+      real(rp) :: xi(ndim), dr(ndim), r2, q, hinv
       integer :: ist
       character(len=200) :: emsg
       if (present(col)) then
@@ -85,12 +86,11 @@ contains
             call grid_ranges(g, c, i, jlo, jhi)
             need = m + max(jhi(1) - jlo(1) + 1, 0) + max(jhi(2) - jlo(2) + 1, 0)
             if (need > size(nb%j)) call grow(nb, need)
-            xi = x(1, i); yi = x(2, i)
+            xi = x(:, i)
             do r = 1, 2
                do j = jlo(r), jhi(r)
-                  dx = xi - x(1, j)
-                  dy = yi - x(2, j)
-                  r2 = dx*dx + dy*dy
+                  dr = xi - x(:, j)
+                  r2 = dot_product(dr, dr)
                   ! kept without a branch: the slot is written always and taken
                   ! when the pair is within the support (a branch here would be
                   ! mispredicted for about a third of the candidates)
