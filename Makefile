@@ -57,7 +57,7 @@ endef
 # code generated from a list (fypp, installed by make deps): the pair-loop variants
 FYPP := .venv/bin/fypp
 GEN  := build/gen/fluid_variants.inc build/gen/fluid_dispatch.inc
-build/gen/fluid_variants.inc: src/fluid_variants.fypp | build/gen $(FYPP)
+build/gen/fluid_variants.inc: src/fluid_variants.fypp src/fluid_pairs.inc src/fluid_pair_body.inc | build/gen $(FYPP)
 	$(FYPP) -DPART="'loops'" $< $@
 build/gen/fluid_dispatch.inc: src/fluid_variants.fypp | build/gen $(FYPP)
 	$(FYPP) -DPART="'dispatch'" $< $@
