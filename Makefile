@@ -42,6 +42,7 @@ $(1)/obj/%.o: src/%.f90 | $(1)/obj $(1)/mod
 $(1)/obj/%.o: src/%.F90 | $(1)/obj $(1)/mod
 	$$(FC) $(2) -I$$(HDF5_INC) -Isrc -Ibuild/gen -J$(1)/mod $$(XFLAGS_$$*) -c $$< -o $$@
 $(1)/obj/fluid_forces.o: $(GEN)
+$(1)/obj/kernel_correction.o: $(GEN)
 $(1)/mbsph: $(addprefix $(1)/obj/,$(addsuffix .o,$(NAMES)))
 	$$(FC) $(2) -o $$@ $$^ $$(LIBS)
 $(1)/obj/testing.o: tests/unit/testing.f90 | $(1)/obj $(1)/mod
@@ -56,11 +57,16 @@ $(1)/obj $(1)/mod $(1)/tests:
 endef
 # code generated from a list (fypp, installed by make deps): the pair-loop variants
 FYPP := .venv/bin/fypp
-GEN  := build/gen/fluid_variants.inc build/gen/fluid_dispatch.inc
-build/gen/fluid_variants.inc: src/fluid_variants.fypp src/fluid_pairs.inc src/fluid_pair_body.inc | build/gen $(FYPP)
+GEN  := build/gen/fluid_variants.inc build/gen/fluid_dispatch.inc build/gen/pre_pairs.inc build/gen/pre_decl.inc
+build/gen/fluid_variants.inc: src/fluid_variants.fypp src/components.fypp src/fluid_pairs.inc src/fluid_pair_body.inc \
+                              | build/gen $(FYPP)
 	$(FYPP) -DPART="'loops'" $< $@
-build/gen/fluid_dispatch.inc: src/fluid_variants.fypp | build/gen $(FYPP)
+build/gen/fluid_dispatch.inc: src/fluid_variants.fypp src/components.fypp | build/gen $(FYPP)
 	$(FYPP) -DPART="'dispatch'" $< $@
+build/gen/pre_pairs.inc: src/pre_pairs.fypp src/components.fypp | build/gen $(FYPP)
+	$(FYPP) -DPART="'body'" $< $@
+build/gen/pre_decl.inc: src/pre_pairs.fypp src/components.fypp | build/gen $(FYPP)
+	$(FYPP) -DPART="'decl'" $< $@
 $(FYPP):
 	@bash tools/deps.sh
 build/gen:

@@ -321,10 +321,13 @@ contains
       real(rp), intent(inout) :: gv(:, :)
       real(rp), intent(inout), optional :: lm(:, :)
       integer :: i, j, k
-      real(rp) :: dx, dy, fac, vi, vj, dvx, dvy, xi, yi, vxi, vyi
-      real(rp) :: b1, b2, b3, g1, g2, g3, g4
-      ! one copy of the pass per choice: no test inside the pair loop
+      real(rp) :: fac, vi, vj
 #define PRE_SPS 1
+#define PRE_KGC 1
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "pre_decl.inc"
+#undef PRE_KGC
+      ! one copy of the pass per choice: no test inside the pair loop
       if (present(lm)) then
 #define PRE_KGC 1
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include

@@ -29,9 +29,11 @@ contains
       real(rp), intent(in) :: vol(:)       !< mass/density of every particle
       real(rp), intent(inout) :: lm(:, :)
       integer :: i, j, k
-      real(rp) :: dx, dy, fac, vi, vj, xi, yi, b1, b2, b3
+      real(rp) :: fac, vi, vj
 #define PRE_KGC 1
 #define PRE_SPS 0
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "pre_decl.inc"
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "pre_pairs.inc"
 #undef PRE_KGC

@@ -53,6 +53,8 @@ if ((${#@} == 0)); then
     mkdir -p "$expanded/gen"
     .venv/bin/fypp -DPART="'loops'" src/fluid_variants.fypp "$expanded/gen/fluid_variants.inc"
     .venv/bin/fypp -DPART="'dispatch'" src/fluid_variants.fypp "$expanded/gen/fluid_dispatch.inc"
+    .venv/bin/fypp -DPART="'body'" src/pre_pairs.fypp "$expanded/gen/pre_pairs.inc"
+    .venv/bin/fypp -DPART="'decl'" src/pre_pairs.fypp "$expanded/gen/pre_decl.inc"
     for f in src/*.F90; do
         if ! gfortran -E -cpp -P -Isrc -I"$expanded/gen" "$f" > "$expanded/$(basename "${f%.F90}").f90"; then
             echo "$f:1:1: CPP the preprocessor refused it"
@@ -64,7 +66,7 @@ if ((${#@} == 0)); then
         echo "lint: the findings above are in src/*.F90 with their src/*.inc expanded" >&2
         status=1
     fi
-    for f in src/*.inc; do
+    for f in src/*.inc src/*.fypp; do
         awk -v f="$f" 'length($0) > 132 { printf "%s:%d:133: S001 line length of %d, exceeds maximum 132\n", f, NR, length($0); bad = 1 }
                        END { exit bad }' "$f" || status=1
     done
