@@ -11,8 +11,11 @@ module io_bodies
    private
    public :: bodies_csv_open, bodies_csv_row, bodies_csv_close
 
-   integer :: unit_ = 0
-   logical :: opened = .false.
+   !> bodies.csv of a run (open on rank 0 only).
+   type, public :: bodies_csv_t
+      integer :: unit = 0
+      logical :: opened = .false.   !< newunit= numbers are negative: keep a flag
+   end type bodies_csv_t
    character(len=*), parameter :: header = 'time,body,x,y,angle,u,v,omega,fx_fluid,fy_fluid,torque_fluid,'// &
                                            'fx_contact,fy_contact,torque_contact,fx_friction,fy_friction,'// &
                                            'torque_friction,fx_gravity,fy_gravity,displacement,rotation'
@@ -20,7 +23,8 @@ module io_bodies
 contains
 
    !> A new file, or on restart the old one cut back to rows up to time t_keep.
-   subroutine bodies_csv_open(out_dir, restart, t_keep)
+   subroutine bodies_csv_open(bf, out_dir, restart, t_keep)
+      type(bodies_csv_t), intent(inout) :: bf
       character(len=*), intent(in) :: out_dir
       logical, intent(in) :: restart
       real(rp), intent(in) :: t_keep
@@ -30,31 +34,33 @@ contains
       path = trim(out_dir)//'/bodies.csv'
       keep = ''
       if (restart) keep = csv_rows_until(path, t_keep)
-      open (newunit=unit_, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+      open (newunit=bf%unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
-      opened = .true.
-      write (unit_, '(a)') header
-      if (len(keep) > 0) write (unit_, '(a)', advance='no') keep
-      call csv_flush(unit_, 'bodies.csv')
+      bf%opened = .true.
+      write (bf%unit, '(a)') header
+      if (len(keep) > 0) write (bf%unit, '(a)', advance='no') keep
+      call csv_flush(bf%unit, 'bodies.csv')
    end subroutine bodies_csv_open
 
-   subroutine bodies_csv_row(t, bodies)
+   subroutine bodies_csv_row(bf, t, bodies)
+      type(bodies_csv_t), intent(in) :: bf
       real(rp), intent(in) :: t
       type(body_t), intent(in) :: bodies(:)
       integer :: b
-      if (.not. opened) return
+      if (.not. bf%opened) return
       do b = 1, size(bodies)
          associate (x => bodies(b))
-            write (unit_, '(es23.15e3,",",i0,19(",",es23.15e3))') t, b, x%pose%c, x%pose%theta, x%v, x%omega, &
+            write (bf%unit, '(es23.15e3,",",i0,19(",",es23.15e3))') t, b, x%pose%c, x%pose%theta, x%v, x%omega, &
                x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric, 0.0_rp, -x%mass*x%g, &
                norm2(x%pose%c - x%pose_start%c), rigid_angle(x%pose, x%pose_start)
          end associate
       end do
-      call csv_flush(unit_, 'bodies.csv')
+      call csv_flush(bf%unit, 'bodies.csv')
    end subroutine bodies_csv_row
 
-   subroutine bodies_csv_close()
-      if (opened) close (unit_)
-      opened = .false.
+   subroutine bodies_csv_close(bf)
+      type(bodies_csv_t), intent(inout) :: bf
+      if (bf%opened) close (bf%unit)
+      bf%opened = .false.
    end subroutine bodies_csv_close
 end module io_bodies

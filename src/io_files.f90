@@ -40,8 +40,11 @@ module io_files
    public :: csv_flush, dir_writable, text_hash, outdir_unlock, outdir_prepare, file_exists, file_text, snap_name, &
              energy_open, energy_row, energy_close, csv_rows_until
 
-   integer :: energy_unit = 0
-   logical :: energy_opened = .false.   !< newunit= numbers are negative: keep a flag
+   !> energy.csv of a run (open on rank 0 only).
+   type, public :: energy_file_t
+      integer :: unit = 0
+      logical :: opened = .false.   !< newunit= numbers are negative: keep a flag
+   end type energy_file_t
 
 contains
 
@@ -254,7 +257,8 @@ contains
 
    !> Open energy.csv: a new file, or on restart the old one cut back to the
    !> rows written before the checkpoint (steps <= last_step).
-   subroutine energy_open(out_dir, restart, last_step)
+   subroutine energy_open(ef, out_dir, restart, last_step)
+      type(energy_file_t), intent(inout) :: ef
       character(len=*), intent(in) :: out_dir
       logical, intent(in) :: restart
       integer, intent(in) :: last_step
@@ -284,21 +288,22 @@ contains
          end if
          close (u)
       end if
-      open (newunit=energy_unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
+      open (newunit=ef%unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
-      energy_opened = .true.
-      write (energy_unit, '(a)') 'time,step,kinetic,potential,total_mass,n_fluid,lost,body_kinetic,body_potential,max_penetration'
-      if (len(keep) > 0) write (energy_unit, '(a)', advance='no') keep
-      call csv_flush(energy_unit, 'energy.csv')
+      ef%opened = .true.
+      write (ef%unit, '(a)') 'time,step,kinetic,potential,total_mass,n_fluid,lost,body_kinetic,body_potential,max_penetration'
+      if (len(keep) > 0) write (ef%unit, '(a)', advance='no') keep
+      call csv_flush(ef%unit, 'energy.csv')
    end subroutine energy_open
 
-   subroutine energy_row(t, istep, ekin, epot, mass, n_fluid, lost, bkin, bpot, pen)
+   subroutine energy_row(ef, t, istep, ekin, epot, mass, n_fluid, lost, bkin, bpot, pen)
+      type(energy_file_t), intent(in) :: ef
       real(rp), intent(in) :: t, ekin, epot, mass, bkin, bpot, pen
       integer, intent(in) :: istep, n_fluid, lost
-      if (.not. energy_opened) return
-      write (energy_unit, '(es23.15e3,",",i0,3(",",es23.15e3),",",i0,",",i0,3(",",es23.15e3))') t, istep, &
+      if (.not. ef%opened) return
+      write (ef%unit, '(es23.15e3,",",i0,3(",",es23.15e3),",",i0,",",i0,3(",",es23.15e3))') t, istep, &
          ekin, epot, mass, n_fluid, lost, bkin, bpot, pen
-      call csv_flush(energy_unit, 'energy.csv')
+      call csv_flush(ef%unit, 'energy.csv')
    end subroutine energy_row
 
    !> Flush a series' unit to the file; a write the system refuses (a full
@@ -313,9 +318,10 @@ contains
                                ' (the rows before it are whole)')
    end subroutine csv_flush
 
-   subroutine energy_close()
-      if (energy_opened) close (energy_unit)
-      energy_opened = .false.
+   subroutine energy_close(ef)
+      type(energy_file_t), intent(inout) :: ef
+      if (ef%opened) close (ef%unit)
+      ef%opened = .false.
    end subroutine energy_close
    !> The data rows of a CSV time series whose first field, a time, is at most
    !> t_keep: what a restart at t_keep keeps of the file. Comment lines ('#'),

@@ -16,17 +16,20 @@ module io_snapshot
    use rigid, only: rigid_rotation, rigid_rotate
    implicit none
    private
-   public :: snapshot_write, snapshot_index_rebuild
+   public :: snap_index_t, snapshot_write, snapshot_index_rebuild
 
-   ! what the XDMF index lists
-   integer :: nlist = 0
-   real(rp), allocatable :: list_t(:)
-   integer, allocatable :: list_n(:)
+   !> What the XDMF index of a run lists: the time and particle count of each snapshot.
+   type :: snap_index_t
+      integer :: nlist = 0
+      real(rp), allocatable :: list_t(:)
+      integer, allocatable :: list_n(:)
+   end type snap_index_t
 
 contains
 
    !> Snapshot number k at time t.
-   subroutine snapshot_write(out_dir, k, p, prm, t, dt, istep, case_text, bodies)
+   subroutine snapshot_write(ix, out_dir, k, p, prm, t, dt, istep, case_text, bodies)
+      type(snap_index_t), intent(inout) :: ix
       character(len=*), intent(in) :: out_dir
       integer, intent(in) :: k, istep
       type(particles_t), target, intent(inout) :: p
@@ -82,8 +85,8 @@ contains
       call h5_attr_write(f, 'case_nml', case_text)
       if (size(bodies) > 0) call write_outlines(f, bodies)
       call h5_close(f)
-      call list_set(k, t, tot(1))
-      if (comm_rank() == 0) call xdmf_write(out_dir)
+      call list_set(ix, k, t, tot(1))
+      if (comm_rank() == 0) call xdmf_write(ix, out_dir)
    end subroutine snapshot_write
 
    !> The permutation that sorts ids ascending (a bottom-up merge sort).
@@ -162,41 +165,43 @@ contains
       call h5_write(f, 'body_pose', pose)
    end subroutine write_outlines
 
-   subroutine list_set(k, t, n)
+   subroutine list_set(ix, k, t, n)
+      type(snap_index_t), intent(inout) :: ix
       integer, intent(in) :: k, n
       real(rp), intent(in) :: t
       real(rp), allocatable :: tt(:)
       integer, allocatable :: nn(:)
       integer :: ist
       character(len=200) :: emsg
-      if (.not. allocated(list_t)) then
+      if (.not. allocated(ix%list_t)) then
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-         allocate (list_t(64), list_n(64), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'list_t, list_n in list_set')
+         allocate (ix%list_t(64), ix%list_n(64), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'ix%list_t, ix%list_n in list_set')
       end if
-      if (k + 1 > size(list_t)) then
+      if (k + 1 > size(ix%list_t)) then
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
          allocate (tt(2*(k + 1)), nn(2*(k + 1)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'tt, nn in list_set')
-         tt(1:nlist) = list_t(1:nlist)
-         nn(1:nlist) = list_n(1:nlist)
-         call move_alloc(tt, list_t)
-         call move_alloc(nn, list_n)
+         tt(1:ix%nlist) = ix%list_t(1:ix%nlist)
+         nn(1:ix%nlist) = ix%list_n(1:ix%nlist)
+         call move_alloc(tt, ix%list_t)
+         call move_alloc(nn, ix%list_n)
       end if
-      list_t(k + 1) = t
-      list_n(k + 1) = n
-      nlist = k + 1
+      ix%list_t(k + 1) = t
+      ix%list_n(k + 1) = n
+      ix%nlist = k + 1
    end subroutine list_set
 
    !> After a restart: list the snapshots 0 .. nsnap-1 already on disk (rank 0
    !> writes the index).
-   subroutine snapshot_index_rebuild(out_dir, nsnap)
+   subroutine snapshot_index_rebuild(ix, out_dir, nsnap)
+      type(snap_index_t), intent(inout) :: ix
       character(len=*), intent(in) :: out_dir
       integer, intent(in) :: nsnap
       integer :: k, n
       integer(hid_t) :: f
       real(rp) :: t
-      nlist = 0
+      ix%nlist = 0
       if (comm_rank() /= 0) return
       do k = 0, nsnap - 1
          if (.not. file_exists(snap_name(out_dir, k))) call fatal('restart: '//snap_name(out_dir, k)// &
@@ -205,13 +210,14 @@ contains
          call h5_attr_read(f, 'time', t)
          n = h5_length(f, 'density')
          call h5_close(f)
-         call list_set(k, t, n)
+         call list_set(ix, k, t, n)
       end do
    end subroutine snapshot_index_rebuild
 
    !> particles.xmf: a temporal collection of polyvertex grids. Written to a
    !> temporary file and renamed, so a reader never sees half a file.
-   subroutine xdmf_write(out_dir)
+   subroutine xdmf_write(ix, out_dir)
+      type(snap_index_t), intent(in) :: ix
       character(len=*), intent(in) :: out_dir
       integer :: u, k, ios
       character(len=msg_len) :: msg
@@ -224,12 +230,12 @@ contains
       write (u, '(a)') '<Xdmf Version="3.0">'
       write (u, '(a)') ' <Domain>'
       write (u, '(a)') '  <Grid Name="particles" GridType="Collection" CollectionType="Temporal">'
-      do k = 0, nlist - 1
+      do k = 0, ix%nlist - 1
          snap = snap_name('', k)
          snap = snap(2:)                              ! relative to the .xmf file
-         write (ns, '(i0)') list_n(k + 1)
+         write (ns, '(i0)') ix%list_n(k + 1)
          write (u, '(a)') '   <Grid Name="'//snap(1:len(snap) - 3)//'" GridType="Uniform">'
-         write (u, '(a,es24.16e3,a)') '    <Time Value="', list_t(k + 1), '"/>'
+         write (u, '(a,es24.16e3,a)') '    <Time Value="', ix%list_t(k + 1), '"/>'
          write (u, '(a)') '    <Topology TopologyType="Polyvertex" NumberOfElements="'//trim(ns)// &
             '" NodesPerElement="1">'
          call item(u, ns, '', 'Int', '4', snap, 'connectivity')

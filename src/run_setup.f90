@@ -115,16 +115,16 @@ contains
       if (size(r%bodies) > 0) then
          call contact_init(scene_contact(c), r%prm, r%ct)
          if (c%run%restart) call contact_memory_set(r%ct, nint(mem(1:2, :)), mem(3:4, :))
-         if (comm_rank() == 0) call bodies_csv_open(r%out, c%run%restart, r%st%t)
+         if (comm_rank() == 0) call bodies_csv_open(r%bf, r%out, c%run%restart, r%st%t)
       end if
       call banner(r, c)
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (r%drop(size(r%p%rho)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'drop in setup')
       ! text files are rank 0's
-      if (comm_rank() == 0) call energy_open(r%out, c%run%restart, r%st%istep)
+      if (comm_rank() == 0) call energy_open(r%ef, r%out, c%run%restart, r%st%istep)
       if (c%run%restart) then
-         call snapshot_index_rebuild(r%out, r%st%isnap)
+         call snapshot_index_rebuild(r%snaps, r%out, r%st%isnap)
       else
          if (comm_rank() == 0) call armour_csv_write(r%out, c)
       end if

@@ -15,7 +15,7 @@ module solver
    use params, only: params_t, kgc_shepard
    use body_dynamics, only: body_t, bodies_energy
    use contact, only: contact_t, contact_memory_advance, contact_memory_get
-   use io_bodies, only: bodies_csv_row, bodies_csv_close
+   use io_bodies, only: bodies_csv_t, bodies_csv_row, bodies_csv_close
    use grid, only: grid_t, grid_init, grid_sort, grid_first_column_end, grid_add_halo
    use decomp, only: decomp_t, decomp_column, decomp_balance, decomp_lo, decomp_hi
    use comm_halo, only: halo_t, comm_halo_migrate, comm_halo_build, comm_halo_redistribute, comm_halo_reverse, &
@@ -27,8 +27,8 @@ module solver
    use bc_motion, only: walls_t
    use run_state, only: state_t, run_ctl_t
    use io_hdf5, only: h5_stop
-   use io_files, only: outdir_unlock, energy_row, energy_close, snap_name
-   use io_snapshot, only: snapshot_write
+   use io_files, only: outdir_unlock, energy_file_t, energy_row, energy_close, snap_name
+   use io_snapshot, only: snap_index_t, snapshot_write
    use io_checkpoint, only: checkpoint_write
    use logger, only: log_close, log_line, log_progress
    use timers, only: timer_start, timer_stop, timer_get, timer_label, n_timers, t_grid, t_output, t_setup, &
@@ -65,6 +65,9 @@ module solver
       type(damping_t) :: zone                   !< the absorbing zone
       real(rp) :: t_next_gauge = 0.0_rp
       character(len=:), allocatable :: wave_report
+      type(snap_index_t) :: snaps               !< what the snapshots' XDMF index lists
+      type(energy_file_t) :: ef                 !< energy.csv
+      type(bodies_csv_t) :: bf                  !< bodies.csv
    end type run_t
 
 contains
@@ -119,8 +122,8 @@ contains
       call checkpoint(r, r%out)
       call timer_stop(t_output)
       call summary(r)
-      call energy_close()
-      call bodies_csv_close()
+      call energy_close(r%ef)
+      call bodies_csv_close(r%bf)
       call gauges_close(r%gt)
       call h5_stop()
       call log_close()
@@ -297,7 +300,7 @@ contains
                     ' fluid particles (left the domain: '//int_str(nd)//', density outside ['// &
                     real_str(r%prm%rho_min)//', '//real_str(r%prm%rho_max)//'] kg/m3: '//int_str(nr)//')')
       if (r%st%lost_domain + r%st%lost_density > r%rc%max_lost_fraction*r%st%n_fluid0) then
-         call snapshot_write(r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
          call fatal('lost '//int_str(r%st%lost_domain + r%st%lost_density)//' of '//int_str(r%st%n_fluid0)// &
                     ' fluid particles, more than max_lost_fraction = '//real_str(r%rc%max_lost_fraction)// &
                     ' (&run); last state written to '//snap_name(r%out, r%st%isnap))
@@ -332,7 +335,7 @@ contains
       if (bad > 0) who = -real(comm_rank(), rp)
       call comm_max(who)
       if (who(1) > -huge(1.0_rp)) then
-         call snapshot_write(r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
          if (nint(-who(1)) /= comm_rank()) then
             call comm_barrier()        ! never passed: the reporting rank aborts
          end if
@@ -341,7 +344,7 @@ contains
                     snap_name(r%out, r%st%isnap))
       end if
       if (r%st%dt < dt_floor) then
-         call snapshot_write(r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
          call fatal('the time step fell to '//real_str(r%st%dt)//' s (below 1e-4 of the acoustic step) at step '// &
                     int_str(r%st%istep)//', t = '//real_str(r%st%t)//' s: the flow has become unstable'// &
                     ' (try a smaller cfl or more viscosity); last state written to '//snap_name(r%out, r%st%isnap))
@@ -354,7 +357,7 @@ contains
    subroutine refuse_fixed_step(r, dt_limit)
       type(run_t), intent(inout) :: r
       real(rp), intent(in) :: dt_limit
-      call snapshot_write(r%out, r%st%isnap, r%p, r%prm, r%st%t, r%prm%dt_fixed, r%st%istep, r%case_text, r%bodies)
+      call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%prm%dt_fixed, r%st%istep, r%case_text, r%bodies)
       call fatal('&numerics dt_fixed = '//real_str(r%prm%dt_fixed)//' s is above the stable step '// &
                  real_str(dt_limit)//' s of the state at step '//int_str(r%st%istep)//', t = '//real_str(r%st%t)// &
                  ' s (force, acoustic-viscous and contact limits at cfl = '//real_str(r%prm%cfl)//'): the run would go'// &
@@ -374,7 +377,7 @@ contains
          ! work array, which the next evaluation overwrites
          call forces_ensure(r%w, size(r%p%rho), r%prm)
          call eos_update(r%prm, r%p%n, r%p%rho, r%p%p, r%w%cs)
-         call snapshot_write(r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
          r%st%isnap = r%st%isnap + 1
          r%st%t_next_snap = (floor(r%st%t/r%rc%dt_out + 1.0e-9_rp) + 1)*r%rc%dt_out
       end if
@@ -395,9 +398,9 @@ contains
          pen = r%ct%max_penetration
          call comm_max(pen)
          call bodies_energy(r%bodies, bkin, bpot)
-         call energy_row(r%st%t, r%st%istep, e(1), e(2), e(3), nint(e(4)), r%st%lost_domain + r%st%lost_density, bkin, &
+         call energy_row(r%ef, r%st%t, r%st%istep, e(1), e(2), e(3), nint(e(4)), r%st%lost_domain + r%st%lost_density, bkin, &
                          bpot, pen(1))
-         if (size(r%bodies) > 0) call bodies_csv_row(r%st%t, r%bodies)
+         if (size(r%bodies) > 0) call bodies_csv_row(r%bf, r%st%t, r%bodies)
          r%st%ienergy = r%st%ienergy + 1
          de = r%rc%energy_interval
          r%st%t_next_energy = (floor(r%st%t/de + 1.0e-9_rp) + 1)*de
