@@ -217,7 +217,7 @@ contains
    end subroutine bodies_damping_add
 
    !> Velocities of the floating bodies after a step of length step from
-   !> (v_start, w_start) with the forces of the last evaluation, the
+   !> their velocities now, or with from_start those at the start of the step, with the forces of the last evaluation, the
    !> velocity-proportional contact forces (friction below the stick speed,
    !> contact damping: the matrix C) taken implicitly, all bodies together:
    !>    M q_new = M q_start + step (F - C (q_new - q_eval)),  q = (v, omega),
@@ -227,10 +227,11 @@ contains
    !> kept), exact for any step (stiff friction does not limit the step), and
    !> at rest (q_new = q_eval) the forces are those evaluated. A dense solve:
    !> fine for hundreds of bodies.
-   subroutine implicit_velocities(bodies, damp, v_start, w_start, step, v_new, w_new)
+   subroutine implicit_velocities(bodies, damp, from_start, step, v_new, w_new)
       type(body_t), intent(in) :: bodies(:)
       real(rp), allocatable, intent(in) :: damp(:, :)
-      real(rp), intent(in) :: v_start(:, :), w_start(:, :), step
+      logical, intent(in) :: from_start
+      real(rp), intent(in) :: step
       real(rp), intent(out) :: v_new(:, :), w_new(:, :)
       real(rp), allocatable :: a(:, :), r(:), q(:)
       real(rp) :: acc(ndim), alpha(nrot), iinv(nrot, nrot)
@@ -252,7 +253,11 @@ contains
          o = ndof*(b - 1)
          call accel(bodies(b), acc, alpha)
          q(o + 1:o + ndof) = [bodies(b)%v, bodies(b)%omega]
-         r(o + 1:o + ndof) = [v_start(:, b) + step*acc, w_start(:, b) + step*alpha]
+         if (from_start) then
+            r(o + 1:o + ndof) = [bodies(b)%v0 + step*acc, bodies(b)%omega0 + step*alpha]
+         else
+            r(o + 1:o + ndof) = [bodies(b)%v + step*acc, bodies(b)%omega + step*alpha]
+         end if
       end do
       r = r + matmul(scaled(a), q)
       a = scaled(a)
@@ -340,7 +345,7 @@ contains
       real(rp), intent(in) :: hdt
       integer :: b
       real(rp) :: vn(ndim, size(bodies)), wn(nrot, size(bodies))
-      call implicit_velocities(bodies, damp, velocities(bodies), angular_velocities(bodies), hdt, vn, wn)
+      call implicit_velocities(bodies, damp, .false., hdt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
          bodies(b)%pose%c = bodies(b)%pose%c + hdt*bodies(b)%v
@@ -357,8 +362,7 @@ contains
       real(rp), intent(in) :: dt
       integer :: b
       real(rp) :: vn(ndim, size(bodies)), wn(nrot, size(bodies))
-      call implicit_velocities(bodies, damp, velocities(bodies, start=.true.), &
-                               angular_velocities(bodies, start=.true.), dt, vn, wn)
+      call implicit_velocities(bodies, damp, .true., dt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
          bodies(b)%v = vn(:, b)
@@ -376,8 +380,7 @@ contains
       real(rp), intent(in) :: dt
       integer :: b
       real(rp) :: vh(ndim, size(bodies)), wh(nrot, size(bodies))
-      call implicit_velocities(bodies, damp, velocities(bodies, start=.true.), &
-                               angular_velocities(bodies, start=.true.), 0.5_rp*dt, vh, wh)
+      call implicit_velocities(bodies, damp, .true., 0.5_rp*dt, vh, wh)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
          bodies(b)%pose = bodies(b)%pose0
@@ -396,7 +399,7 @@ contains
       real(rp), intent(in) :: dt
       integer :: b
       real(rp) :: a(ndim), alpha(nrot), vn(ndim, size(bodies)), wn(nrot, size(bodies))
-      call implicit_velocities(bodies, damp, velocities(bodies), angular_velocities(bodies), dt, vn, wn)
+      call implicit_velocities(bodies, damp, .false., dt, vn, wn)
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
          call accel(bodies(b), a, alpha)
@@ -408,34 +411,6 @@ contains
          bodies(b)%omega = wn(:, b)
       end do
    end subroutine bodies_verlet
-
-   !> The velocities of the bodies' centres, now or at the start of the step.
-   pure function velocities(bodies, start) result(v)
-      type(body_t), intent(in) :: bodies(:)
-      logical, intent(in), optional :: start
-      real(rp) :: v(ndim, size(bodies))
-      integer :: b
-      do b = 1, size(bodies)
-         v(:, b) = bodies(b)%v
-         if (present(start)) then
-            if (start) v(:, b) = bodies(b)%v0
-         end if
-      end do
-   end function velocities
-
-   !> The angular velocities of the bodies, now or at the start of the step.
-   pure function angular_velocities(bodies, start) result(w)
-      type(body_t), intent(in) :: bodies(:)
-      logical, intent(in), optional :: start
-      real(rp) :: w(nrot, size(bodies))
-      integer :: b
-      do b = 1, size(bodies)
-         w(:, b) = bodies(b)%omega
-         if (present(start)) then
-            if (start) w(:, b) = bodies(b)%omega0
-         end if
-      end do
-   end function angular_velocities
 
    !> Pose and velocities of the prescribed bodies at time t, from their
    !> function of time (the integrators step only the floating ones), so a

@@ -9,7 +9,7 @@ module decomp
    use grid, only: grid_column
    implicit none
    private
-   public :: decomp_t, decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, decomp_lo, &
+   public :: decomp_t, decomp_init, decomp_owner, decomp_column, decomp_count, decomp_balance, decomp_set_edges, decomp_lo, &
              decomp_hi
 
    !> The slabs of a run: the columns, the ranks and each rank's first column.
@@ -86,6 +86,20 @@ contains
       real(rp), intent(in) :: x
       r = d%owner(grid_column(d%x0, d%cs, d%ncol, x))
    end function decomp_owner
+
+   !> The particles at abscissae x(1, 1:n) counted by cell column (0-based).
+   subroutine decomp_count(d, x, n, count)
+      type(decomp_t), intent(in) :: d
+      real(rp), intent(in) :: x(:, :)
+      integer, intent(in) :: n
+      integer, intent(out) :: count(0:)
+      integer :: i, k
+      count(0:d%ncol - 1) = 0
+      do i = 1, n
+         k = decomp_column(d, x(1, i))
+         count(k) = count(k) + 1
+      end do
+   end subroutine decomp_count
 
    !> New edges from the particle count of every column (summed over the
    !> ranks): rank r starts at the first column where the running count

@@ -19,7 +19,7 @@ module run_setup
    use contact, only: contact_init, contact_memory_set
    use io_bodies, only: bodies_csv_open
    use grid, only: grid_init, grid_columns
-   use decomp, only: decomp_init, decomp_owner, decomp_column, decomp_balance, decomp_set_edges, decomp_lo, &
+   use decomp, only: decomp_init, decomp_owner, decomp_count, decomp_balance, decomp_set_edges, decomp_lo, &
                      decomp_hi
    use fluid_forces, only: forces_init
    use bc_motion, only: walls_init, motion_apply
@@ -220,7 +220,7 @@ contains
       type(run_t), intent(inout) :: r
       integer, intent(in) :: counts(:), edges(:)
       integer, allocatable :: hist(:), perm(:)
-      integer :: nr, me, i, k, rk, first, nkeep
+      integer :: nr, me, i, rk, first, nkeep
       logical :: same, moved
       integer :: ist
       character(len=200) :: emsg
@@ -237,11 +237,7 @@ contains
          ! (a new run starts from slabs of equal width and balances at step 0)
          allocate (hist(0:r%g%ncx_all - 1), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'hist in decompose')
-         hist = 0
-         do i = 1, r%p%n
-            k = decomp_column(r%dc, r%p%x(1, i))
-            hist(k) = hist(k) + 1
-         end do
+         call decomp_count(r%dc, r%p%x, r%p%n, hist)
          call decomp_balance(r%dc, hist, moved)
       end if
       ! the particles of this slab; restarting on as many ranks, this rank's

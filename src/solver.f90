@@ -17,7 +17,7 @@ module solver
    use contact, only: contact_t, contact_memory_advance, contact_memory_get
    use io_bodies, only: bodies_csv_t, bodies_csv_row, bodies_csv_close
    use grid, only: grid_t, grid_init, grid_sort, grid_first_column_end, grid_add_halo
-   use decomp, only: decomp_t, decomp_column, decomp_balance, decomp_lo, decomp_hi
+   use decomp, only: decomp_t, decomp_count, decomp_balance, decomp_lo, decomp_hi
    use comm_halo, only: halo_t, comm_halo_migrate, comm_halo_build, comm_halo_redistribute, comm_halo_reverse, &
                         comm_halo_forward
    use eos, only: eos_update
@@ -219,17 +219,12 @@ contains
    subroutine rebalance(r)
       type(run_t), intent(inout) :: r
       integer, allocatable :: hist(:)
-      integer :: i, k
       logical :: moved
       integer :: ist
       character(len=200) :: emsg
       allocate (hist(0:r%g%ncx_all - 1), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'hist in rebalance')
-      hist = 0
-      do i = 1, r%p%n_own
-         k = decomp_column(r%dc, r%p%x(1, i))
-         hist(k) = hist(k) + 1
-      end do
+      call decomp_count(r%dc, r%p%x, r%p%n_own, hist)
       call comm_sum(hist)
       call decomp_balance(r%dc, hist, moved)
       if (.not. moved) return
