@@ -17,6 +17,7 @@ module fluid_forces
    use nbr_list, only: nbr_t, nbr_build
    use kernel, only: kernel_cubic
    use kernel_correction, only: kgc_sums, kgc_finish
+   use porous, only: porous_t, porous_field, n_por
    implicit none
    private
    public :: forces_work_t, forces_init, forces_ensure, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last
@@ -36,13 +37,21 @@ module fluid_forces
       real(rp), allocatable :: lm(:, :)    !< gradient correction matrices
       real(rp), allocatable :: tau(:, :)   !< SPS stress / rho^2
       real(rp), allocatable :: gv(:, :)    !< SPS velocity gradients du/dx, du/dy, dv/dx, dv/dy [1/s]
+      real(rp), allocatable :: por(:, :)   !< porosity, resistance rates, added mass, grad n (porous_field)
+      ! porous runs: what the pair loop reads for each particle, a wall or body
+      ! particle among the pores standing for pore water of the porosity there
+      real(rp), allocatable :: pp(:)       !< n p [Pa]
+      real(rp), allocatable :: mp(:)       !< mass (of a wall or body particle: n m) [kg]
+      real(rp), allocatable :: rp(:)       !< superficial density (of a wall or body particle: n rho) [kg/m3]
+      real(rp), allocatable :: npor(:)     !< porosity n [-]
+      real(rp), allocatable :: gn(:, :)    !< sum_j V_j (n_i + n_j) grad W: grad n as the pressure term sees it [1/m]
       real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]
       type(nbr_t) :: seg(4)                !< pair lists of the columns in the sweep (forces_sweep)
    end type forces_work_t
 
    abstract interface
       subroutine pairs_iface(n, g, nb, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, &
-                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
+                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, npor, acc, drho, gn, mumax)
          import :: rp, n_rep, grid_t, nbr_t, ndim
          implicit none
          integer, intent(in) :: n
@@ -51,8 +60,8 @@ module fluid_forces
          real(rp), intent(in) :: x(ndim, n), v(ndim, n), rho(n), irho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
          real(rp), intent(in) :: nrm(ndim, n)
          integer, intent(in) :: kind(n), surf(n)
-         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
-         real(rp), intent(inout) :: acc(ndim, n), drho(n)
+         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep), npor(:)
+         real(rp), intent(inout) :: acc(ndim, n), drho(n), gn(:, :)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_iface
    end interface
@@ -70,7 +79,7 @@ contains
    !> others a loop over the grid's stencil, which needs no list in memory.
    subroutine forces_init(prm)
       type(params_t), intent(in) :: prm
-      integer :: list, bc, kern, visc, diff, kgc, key
+      integer :: list, bc, kern, visc, diff, kgc, por, key
       ! the repulsive boundary runs without density diffusion and gradient
       ! correction (the input refuses them; doc/theory.md says why)
       list = merge(1, 0, needs_list(prm))
@@ -80,14 +89,15 @@ contains
       visc = merge(2, 1, prm%visc == visc_laminar_sps)
       diff = merge(1, 0, prm%diffusion /= diff_none)
       kgc = merge(1, 0, prm%kgc == kgc_gradient)
+      por = merge(1, 0, prm%porous)
       ! the key of src/fluid_variants.fypp, whose list of variants makes these cases
-      key = list*100000 + bc*10000 + kern*1000 + visc*100 + diff*10 + kgc
+      key = list*1000000 + bc*100000 + kern*10000 + visc*1000 + diff*100 + kgc*10 + por
       select case (key)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_dispatch.inc"
       case default
          call fatal('forces_init: no pair loop for the models of key '//int_str(key)// &
-                    ' (list, boundary, kernel, viscosity, diffusion, correction): add it to src/fluid_variants.fypp')
+                    ' (list, boundary, kernel, viscosity, diffusion, correction, porous): add it to src/fluid_variants.fypp')
       end select
    end subroutine forces_init
 
@@ -106,7 +116,7 @@ contains
       character(len=200) :: emsg
       if (allocated(w%acc)) then
          if (size(w%drho) >= nmax) return
-         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv)
+         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%pp, w%mp, w%rp, w%npor, w%gn)
       end if
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax), stat=ist, errmsg=emsg)
@@ -135,29 +145,70 @@ contains
          allocate (w%tau(3, 1), w%gv(4, 1), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'w%tau, w%gv in forces_ensure')
       end if
+      ! allow(multiple-allocations-with-stat): either refused is the same stop
+      allocate (w%por(n_por, merge(nmax, 1, prm%porous)), w%pp(merge(nmax, 1, prm%porous)), &
+                w%mp(merge(nmax, 1, prm%porous)), w%rp(merge(nmax, 1, prm%porous)), w%npor(merge(nmax, 1, prm%porous)), &
+                w%gn(ndim, merge(nmax, 1, prm%porous)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the porous arrays in forces_ensure')
    end subroutine forces_ensure
 
    !> What a force evaluation needs before its pairs: pressure and sound
    !> speed from density, 1/rho and volumes, the density of the diffusion
    !> term; the sums the pairs add to (rates, and the sums of a pass before
    !> the forces) start from zero.
-   subroutine forces_prepare(prm, p, w)
+   subroutine forces_prepare(prm, por, p, w)
       type(params_t), intent(in) :: prm
+      type(porous_t), intent(in) :: por
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       integer :: i, n
       n = p%n
       call forces_ensure(w, size(p%rho), prm)
-      call eos_update(prm, n, p%rho, p%p, w%cs)
-      if (prm%diffusion == diff_fourtakas) then
-         call eos_dynamic_density(prm, n, p%rho, p%x, w%rhod)
-      else if (prm%diffusion /= diff_none) then
-         w%rhod(1:n) = p%rho(1:n)
+      if (prm%porous) then
+         ! pressure and the diffusion's density from the density of the pore
+         ! water, rho / n (irho holds it until it gets its own values below);
+         ! the pair loop sums n p, walls and bodies lending theirs too
+         call porous_field(por, n, p%x, w%por)
+         do i = 1, n
+            w%irho(i) = p%rho(i)
+            if (p%kind(i) == kind_fluid) w%irho(i) = p%rho(i)/w%por(1, i)
+         end do
+         call eos_update(prm, n, w%irho, p%p, w%cs)
+         w%npor(1:n) = w%por(1, 1:n)
+         w%pp(1:n) = w%npor(1:n)*p%p(1:n)
+         w%gn(:, 1:n) = 0.0_rp
+         w%mp(1:n) = p%mass(1:n)
+         w%rp(1:n) = p%rho(1:n)
+         do i = 1, n
+            if (p%kind(i) /= kind_fluid) then
+               w%mp(i) = w%por(1, i)*p%mass(i)
+               w%rp(i) = w%por(1, i)*p%rho(i)
+            end if
+         end do
+         if (prm%diffusion == diff_fourtakas) then
+            call eos_dynamic_density(prm, n, w%irho, p%x, w%rhod)
+         else if (prm%diffusion /= diff_none) then
+            w%rhod(1:n) = w%irho(1:n)
+         end if
+      else
+         call eos_update(prm, n, p%rho, p%p, w%cs)
+         if (prm%diffusion == diff_fourtakas) then
+            call eos_dynamic_density(prm, n, p%rho, p%x, w%rhod)
+         else if (prm%diffusion /= diff_none) then
+            w%rhod(1:n) = p%rho(1:n)
+         end if
       end if
-      do i = 1, n
-         w%irho(i) = 1.0_rp/p%rho(i)
-         w%vol(i) = p%mass(i)*w%irho(i)
-      end do
+      if (prm%porous) then
+         do i = 1, n
+            w%irho(i) = 1.0_rp/w%rp(i)
+            w%vol(i) = w%mp(i)*w%irho(i)
+         end do
+      else
+         do i = 1, n
+            w%irho(i) = 1.0_rp/p%rho(i)
+            w%vol(i) = p%mass(i)*w%irho(i)
+         end do
+      end if
       if (prm%kgc == kgc_gradient) w%lm(:, 1:n) = 0.0_rp
       if (prm%visc == visc_laminar_sps) w%gv(:, 1:n) = 0.0_rp
       w%acc(:, 1:n) = 0.0_rp
@@ -304,9 +355,15 @@ contains
       real(rp) :: rep(n_rep)
       ! constants of the repulsive boundary, unused by the dynamic one
       rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
-      call pairs(p%n, g, nb, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
-                 p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                 prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
+      if (prm%porous) then
+         call pairs(p%n, g, nb, p%x, p%v, w%rp, w%irho, w%pp, w%mp, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+                    p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
+                    prm%kgc_cont, rep, w%npor, w%acc, w%drho, w%gn, w%mumax)
+      else
+         call pairs(p%n, g, nb, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+                    p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
+                    prm%kgc_cont, rep, w%npor, w%acc, w%drho, w%gn, w%mumax)
+      end if
    end subroutine pair_rows
 
    !> Pair sums of the sub-particle-scale stress: the velocity gradients

@@ -12,6 +12,7 @@ module input
    use input_body, only: body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
    use input_wave, only: wavemaker_cfg, gauge_cfg, damping_cfg, read_wavemaker, write_wavemaker, read_gauges, &
                          write_gauges, read_damping, write_damping
+   use input_porous, only: porous_cfg, read_porous, write_porous
    use input_breakwater, only: breakwater_cfg, armour_cfg, read_breakwater, write_breakwater, read_armour, &
                                write_armour
    use scene_flume, only: armour_layer_t, paddle_object, breakwater_objects, armour_units
@@ -20,7 +21,8 @@ module input
    use body_shapes, only: body_outline
    use geom, only: polygons_overlap
    use errors, only: input_error, fatal, alloc_check
-   use options, only: role_solid, role_fluid, wall_wavemaker, wave_regular, wave_file, paddle_piston, gauge_pressure
+   use options, only: role_solid, role_fluid, wall_wavemaker, wave_regular, wave_file, paddle_piston, gauge_pressure, &
+                      integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, visc_laminar_sps
    implicit none
    private
    public :: case_cfg, read_case, write_case
@@ -37,6 +39,7 @@ module input
       type(wavemaker_cfg) :: wavemaker
       type(gauge_cfg), allocatable :: gauges(:)
       type(damping_cfg) :: damping
+      type(porous_cfg), allocatable :: porous(:)
       type(breakwater_cfg) :: breakwater
       type(armour_cfg) :: armour
       type(armour_layer_t) :: layer           !< the armour layer as generated
@@ -64,6 +67,7 @@ contains
       call read_wavemaker(file, c%wavemaker, c%breakwater)
       call read_gauges(file, c%gauges)
       call read_damping(file, c%damping)
+      call read_porous(file, c%numerics%h_over_dp*c%numerics%dp, c%porous)
       call expand_flume(c)
 
       tol = 1.0e-9_rp*max(abs(c%domain%xmax - c%domain%xmin), abs(c%domain%ymax - c%domain%ymin))
@@ -94,7 +98,52 @@ contains
       end do
       call check_bodies(c, tol)
       call check_waves(c)
+      call check_porous(c, tol)
    end subroutine read_case
+
+   !> Porous regions inside the domain, not overlapping each other (sharing
+   !> an edge is allowed: a core under its filter layer), and an integrator
+   !> that damps: the leapfrog's spurious mode grows under the resistance.
+   subroutine check_porous(c, tol)
+      type(case_cfg), intent(in) :: c
+      real(rp), intent(in) :: tol
+      integer :: i, k
+      character(len=:), allocatable :: gi
+      do i = 1, size(c%porous)
+         gi = 'porous #'//int_str(i)
+         associate (v => c%porous(i)%v)
+            if (minval(v(1, :)) < c%domain%xmin - tol .or. maxval(v(1, :)) > c%domain%xmax + tol .or. &
+                minval(v(2, :)) < c%domain%ymin - tol .or. maxval(v(2, :)) > c%domain%ymax + tol) then
+               call input_error(c%file, gi, merge('xmin, xmax, ymin, ymax', 'x, y                  ', &
+                                c%porous(i)%is_box), 'the region reaches outside the &domain ['// &
+                                real_str(c%domain%xmin)//', '//real_str(c%domain%xmax)//'] x ['// &
+                                real_str(c%domain%ymin)//', '//real_str(c%domain%ymax)//']')
+            end if
+         end associate
+         do k = 1, i - 1
+            if (polygons_overlap(c%porous(i)%v, c%porous(k)%v, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
+               call input_error(c%file, gi, '', 'the region overlaps &porous #'//int_str(k)// &
+                                ' (regions may share an edge, not area)')
+            end if
+         end do
+      end do
+      if (size(c%porous) == 0) return
+      if (c%numerics%integrator_id == integ_verlet) then
+         call input_error(c%file, 'numerics', 'integrator', "the porous regions' resistance needs a two-stage "// &
+                          "integrator: 'symplectic' or 'predictor_corrector' (Verlet's leapfrog mode grows under it)")
+      end if
+      ! not yet for the pores (doc/porous.md): the Shepard filter averages
+      ! superficial densities of unlike porosity; with the gradient correction
+      ! the water at the edge of a region goes unstable; the SPS stress and the
+      ! repulsive force are written for open water only
+      if (c%numerics%kgc_id == kgc_shepard .or. c%numerics%kgc_id == kgc_gradient) call input_error(c%file, &
+         'numerics', 'kernel_correction', "'"//trim(c%numerics%kernel_correction)// &
+         "' does not work with &porous regions yet: use 'none' (doc/porous.md)")
+      if (c%numerics%viscosity_id == visc_laminar_sps) call input_error(c%file, 'numerics', 'viscosity', &
+         "'laminar_sps' does not work with &porous regions yet: use 'artificial' (doc/porous.md)")
+      if (c%numerics%boundary_id == bnd_repulsive) call input_error(c%file, 'numerics', 'boundary', &
+         "'repulsive' does not work with &porous regions yet: use 'dynamic'")
+   end subroutine check_porous
 
    !> The breakwater, its armour and the paddle become objects and bodies
    !> like any other (after the user's own, so the user's solids come first).
@@ -284,6 +333,7 @@ contains
       call write_wavemaker(u, c%wavemaker)
       call write_gauges(u, c%gauges)
       call write_damping(u, c%damping)
+      call write_porous(u, c%porous)
       close (u)
    end subroutine write_case
 end module input

@@ -14,7 +14,7 @@ module input_check
 
    character(len=*), parameter :: known_groups(*) = [character(len=16) :: &
       'run', 'domain', 'fluid', 'numerics', 'box', 'polygon', 'slope', 'body', 'contact', 'wavemaker', &
-      'gauge', 'damping', 'breakwater', 'armour']
+      'gauge', 'damping', 'breakwater', 'armour', 'porous']
 
 contains
 

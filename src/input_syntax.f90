@@ -26,10 +26,10 @@ module input_syntax
    !> The variables that take several values (arrays): any other takes one.
    !> A new array variable of a group must be added here.
    character(len=*), parameter :: array_vars(*) = [character(len=24) :: &
-      'box%amplitude', 'polygon%amplitude', 'polygon%x', 'polygon%y', 'body%vx', 'body%vy']
+      'box%amplitude', 'polygon%amplitude', 'polygon%x', 'polygon%y', 'body%vx', 'body%vy', 'porous%x', 'porous%y']
 
    !> The groups a case may hold several of, named 'box #2' in messages as their readers do.
-   character(len=*), parameter :: repeatable(*) = [character(len=8) :: 'box', 'polygon', 'slope', 'body', 'gauge']
+   character(len=*), parameter :: repeatable(*) = [character(len=8) :: 'box', 'polygon', 'slope', 'body', 'gauge', 'porous']
 
    character(len=*), parameter :: name_chars = 'abcdefghijklmnopqrstuvwxyz0123456789_'
 

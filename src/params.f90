@@ -39,6 +39,7 @@ module params
       integer :: integrator = integ_symplectic
       integer :: verlet_every
       integer :: boundary = bnd_dynamic    !< how the fluid meets solids
+      logical :: porous = .false.          !< the scene has porous regions (module porous)
       ! repulsive boundary (doc/theory.md): A = rep_a - rep_b u_n
       real(rp) :: rep_a = 0.0_rp           !< (10/coef)^2 0.01 c0^2 / h [m/s2]
       real(rp) :: rep_b = 0.0_rp           !< (10/coef) c0 / h [1/s]

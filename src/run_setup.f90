@@ -13,7 +13,7 @@ module run_setup
    use params, only: params_t, visc_artificial, diff_none, kgc_gradient, kgc_shepard, integ_verlet, &
                      bnd_repulsive
    use scene, only: scene_build, scene_bodies, scene_no_fluid, scene_estimate, scene_params, scene_gauges, &
-                    scene_damping, scene_contact, scene_run
+                    scene_damping, scene_contact, scene_run, scene_porous
    use sys_limits, only: sys_memory_left
    use body_dynamics, only: body_t, bodies_place, bodies_prescribe
    use contact, only: contact_init, contact_memory_set
@@ -103,6 +103,7 @@ contains
       call walls_init(c%objs, paddle, r%n_kind(3) > 0, r%walls)
       call scene_gauges(c, r%gt)
       r%zone = scene_damping(c)
+      r%por = scene_porous(c)
       ! moving walls start on their motion: position and velocity at t = 0
       if (r%walls%moving .and. .not. c%run%restart) call motion_apply(r%walls, r%p, 0.0_rp)
       if (r%n_kind(1) == 0) call log_line('mbsph: warning: '//trim(c%file)//': the case has '//scene_no_fluid// &
@@ -313,6 +314,8 @@ contains
          if (any(c%bodies(:)%mu > 0.0_rp)) fx = fx//', Coulomb friction'
       end if
       if (r%prm%integrator == integ_verlet) fx = fx//', Verlet Euler step every '//int_str(r%prm%verlet_every)
+      if (r%por%on) fx = fx//', '//int_str(size(r%por%r))//' porous region'//trim(merge('s', ' ', size(r%por%r) > 1))// &
+                         ' (porosity '//real_str(minval(r%por%r%n))//' to '//real_str(maxval(r%por%r%n))//')'
       call log_line('  effects on: '//fx)
       if (len(r%wave_report) > 0) call log_line(r%wave_report)
       if (c%armour%on) call log_line('  armour: '//int_str(c%layer%n_units)//' '//trim(c%armour%placement)// &

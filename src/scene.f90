@@ -18,11 +18,12 @@ module scene
    use run_state, only: run_ctl_t
    use eos, only: eos_density_at_depth
    use geom, only: point_in_polygon, nearest_edge_normal, distance_to_polygon, polygon_area
+   use porous, only: porous_t, porous_point, n_por
    use errors, only: fatal, alloc_check
    implicit none
    private
    public :: scene_build, scene_bodies, scene_no_fluid, scene_estimate, scene_params, scene_gauges, scene_damping, &
-             scene_contact, scene_run
+             scene_contact, scene_run, scene_porous
 
    !> What a scene without fluid particles lacks, for the messages.
    character(len=*), parameter :: scene_no_fluid = "no fluid particles: no &box or &polygon with role = 'fluid' "// &
@@ -40,8 +41,9 @@ contains
       type(params_t), intent(out) :: prm
       type(body_t), allocatable, intent(out) :: bodies(:)
       integer :: k, i, nf
-      real(rp) :: dp, ybed, ytop
+      real(rp) :: dp, ybed, ytop, f(n_por)
       type(outline_t), allocatable :: holes(:)
+      type(porous_t) :: por
       integer :: ist
       character(len=200) :: emsg
       dp = c%numerics%dp
@@ -55,13 +57,15 @@ contains
       do k = 1, size(c%bodies)
          holes(k)%v = body_outline(c%bodies(k))
       end do
+      por = scene_porous(c)
       do k = 1, size(c%objs)
          if (c%objs(k)%group == 'slope') then
             call add_slope(c%objs(k), k, dp, p, c%objs(1:k - 1))
          else
-            call add_lattice(c%objs(k), k, dp, p, c%objs, holes)
+            call add_lattice(c%objs(k), k, dp, p, c%objs, holes, por)
          end if
       end do
+      call add_pore_water(c, dp, p, holes, por)
       call scene_bodies(c, bodies, p)
       nf = count(p%kind(1:p%n) == kind_fluid)
       ybed = 0.0_rp
@@ -78,6 +82,11 @@ contains
          ! still water: hydrostatic density below the surface, rho0 above
          ! (body particles take the density of the water they displace)
          p%rho(i) = eos_density_at_depth(prm, max(prm%y_surface - p%x(2, i), 0.0_rp))
+         if (por%on .and. p%kind(i) == kind_fluid) then
+            ! in the pores the continuity equation carries the superficial density n rho
+            f = porous_point(por, p%x(:, i))
+            p%rho(i) = f(1)*p%rho(i)
+         end if
          if (p%history) then
             p%vm1(:, i) = p%v(:, i)
             p%rhom1(i) = p%rho(i)
@@ -201,9 +210,10 @@ contains
 
    !> Lattice points (spacing dp, half a spacing in from the bounding box)
    !> inside the object's polygon; fluid points leave room for the bodies.
-   subroutine add_lattice(o, obj, dp, p, objs, holes)
+   subroutine add_lattice(o, obj, dp, p, objs, holes, por)
       type(geom_object), intent(in) :: o, objs(:)
       type(outline_t), intent(in) :: holes(:)
+      type(porous_t), intent(in) :: por
       integer, intent(in) :: obj
       real(rp), intent(in) :: dp
       type(particles_t), intent(inout) :: p
@@ -278,19 +288,125 @@ contains
          end do edges
       end function exposed_edge
 
-      !> Inside a body, or closer to its outline than half a spacing.
+      !> Inside a body, or closer to its outline than half a spacing; or among
+      !> stones, whose water add_pore_water places.
       logical function in_hole(pt)
          real(rp), intent(in) :: pt(2)
          integer :: h
-         in_hole = .false.
+         in_hole = in_pores(por, pt)
          do h = 1, size(holes)
-            if (point_in_polygon(pt, holes(h)%v) .or. distance_to_polygon(pt, holes(h)%v) < 0.499_rp*dp) then
-               in_hole = .true.
-               return
-            end if
+            in_hole = in_hole .or. point_in_polygon(pt, holes(h)%v) .or. &
+                      distance_to_polygon(pt, holes(h)%v) < 0.499_rp*dp
          end do
       end function in_hole
    end subroutine add_lattice
+
+   !> Water in the pores: where a porous region covers a fluid object, a
+   !> lattice of spacing about dp/sqrt(n), so that every particle keeps the
+   !> mass rho0 dp^2 and the superficial density is n rho0. The lattice is
+   !> fitted to the box the two outlines share (a whole number of rows and
+   !> columns, half a spacing in from its sides), so that the water in the
+   !> pores starts with the volume of the pores it fills, level with the open
+   !> water beside it.
+   subroutine add_pore_water(c, dp, p, holes, por)
+      type(case_cfg), intent(in) :: c
+      real(rp), intent(in) :: dp
+      type(particles_t), intent(inout) :: p
+      type(outline_t), intent(in) :: holes(:)
+      type(porous_t), intent(in) :: por
+      integer :: r, o, i, j, nx, ny, k
+      real(rp) :: s, lo(2), hi(2), sx, sy, pt(2)
+      if (.not. por%on) return
+      regions: do r = 1, size(por%r)
+         if (por%r(r)%n >= 1.0_rp) cycle regions
+         s = dp/sqrt(por%r(r)%n)
+         objects: do o = 1, size(c%objs)
+            if (c%objs(o)%role_id /= role_fluid) cycle objects
+            lo = max(minval(por%r(r)%v, dim=2), minval(c%objs(o)%v, dim=2))
+            hi = min(maxval(por%r(r)%v, dim=2), maxval(c%objs(o)%v, dim=2))
+            if (any(hi <= lo)) cycle objects
+            nx = max(1, nint((hi(1) - lo(1))/s))
+            ny = max(1, nint((hi(2) - lo(2))/s))
+            sx = (hi(1) - lo(1))/nx
+            sy = (hi(2) - lo(2))/ny
+            call particles_grow(p, nx*ny)
+            do j = 1, ny
+               points: do i = 1, nx
+                  pt = [lo(1) + (i - 0.5_rp)*sx, lo(2) + (j - 0.5_rp)*sy]
+                  if (.not. pore_free(c, por, holes, dp, pt, r, o)) cycle points
+                  p%n = p%n + 1
+                  k = p%n
+                  p%x(:, k) = pt
+                  p%xb(:, k) = pt
+                  p%kind(k) = kind_fluid
+                  p%body(k) = 0
+                  p%nrm(:, k) = 0.0_rp
+                  p%surf(k) = 0
+                  p%nb(:, k) = 0.0_rp
+               end do points
+            end do
+         end do objects
+      end do regions
+   end subroutine add_pore_water
+
+   !> A point of the pore water's lattice of region r and fluid object o that is
+   !> not already water of an earlier object or region, nor in a body or closer
+   !> to it than half a spacing.
+   logical function pore_free(c, por, holes, dp, pt, r, o) result(free)
+      type(case_cfg), intent(in) :: c
+      type(porous_t), intent(in) :: por
+      type(outline_t), intent(in) :: holes(:)
+      real(rp), intent(in) :: dp, pt(2)
+      integer, intent(in) :: r, o
+      integer :: k
+      free = point_in_polygon(pt, por%r(r)%v) .and. point_in_polygon(pt, c%objs(o)%v)
+      do k = 1, o - 1
+         if (c%objs(k)%role_id == role_fluid) free = free .and. .not. point_in_polygon(pt, c%objs(k)%v)
+      end do
+      do k = 1, r - 1
+         if (por%r(k)%n < 1.0_rp) free = free .and. .not. point_in_polygon(pt, por%r(k)%v)
+      end do
+      do k = 1, size(holes)
+         free = free .and. .not. (point_in_polygon(pt, holes(k)%v) .or. distance_to_polygon(pt, holes(k)%v) < 0.499_rp*dp)
+      end do
+   end function pore_free
+
+   !> Inside a porous region (of porosity below 1), whose water add_pore_water places.
+   pure logical function in_pores(por, pt)
+      type(porous_t), intent(in) :: por
+      real(rp), intent(in) :: pt(2)
+      integer :: r
+      in_pores = .false.
+      if (.not. por%on) return
+      do r = 1, size(por%r)
+         if (por%r(r)%n < 1.0_rp .and. point_in_polygon(pt, por%r(r)%v)) in_pores = .true.
+      end do
+   end function in_pores
+
+   !> The porous regions of the case (module porous).
+   function scene_porous(c) result(por)
+      type(case_cfg), intent(in) :: c
+      type(porous_t) :: por
+      integer :: k, ist
+      character(len=200) :: emsg
+      por%on = size(c%porous) > 0
+      allocate (por%r(size(c%porous)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'por%r in scene_porous')
+      do k = 1, size(c%porous)
+         associate (r => por%r(k), q => c%porous(k))
+            r%v = q%v
+            r%n = q%porosity
+            r%d50 = q%d50
+            r%alpha = q%alpha
+            r%beta = q%beta
+            r%gamma = q%gamma
+            r%nu = q%nu
+            r%width = q%width
+            r%bb = [minval(q%v(1, :)) - 0.5_rp*q%width, maxval(q%v(1, :)) + 0.5_rp*q%width, &
+                    minval(q%v(2, :)) - 0.5_rp*q%width, maxval(q%v(2, :)) + 0.5_rp*q%width]
+         end associate
+      end do
+   end function scene_porous
 
    !> Rows of particles parallel to the slope line, below it.
    subroutine add_slope(o, obj, dp, p, earlier)
@@ -391,6 +507,7 @@ contains
       prm%integrator = c%numerics%integrator_id
       prm%verlet_every = c%numerics%verlet_every
       prm%boundary = c%numerics%boundary_id
+      prm%porous = size(c%porous) > 0
       prm%rep_a = (10.0_rp/c%fluid%coef)**2*0.01_rp*prm%c0**2/prm%h
       prm%rep_b = (10.0_rp/c%fluid%coef)*prm%c0/prm%h
       prm%rep_u = 40.0_rp/prm%c0

@@ -36,6 +36,7 @@ module solver
    use comm, only: comm_wtime, comm_size, comm_rank, comm_barrier, comm_sum, comm_max, comm_allgather
    use errors, only: fatal, alloc_check
    use wave_damping, only: damping_t, damping_apply
+   use porous, only: porous_t, porous_point, porous_field, n_por
    use probe_gauges, only: gauges_t, gauges_count, gauges_open, gauges_sums, gauges_values, gauges_write, &
                            gauges_close
    implicit none
@@ -63,6 +64,7 @@ module solver
       type(decomp_t) :: dc                      !< the slabs of the ranks
       type(gauges_t) :: gt                      !< the gauges, their file and scratch
       type(damping_t) :: zone                   !< the absorbing zone
+      type(porous_t) :: por                     !< the porous regions
       real(rp) :: t_next_gauge = 0.0_rp
       character(len=:), allocatable :: wave_report
       type(snap_index_t) :: snaps               !< what the snapshots' XDMF index lists
@@ -94,7 +96,7 @@ contains
       written = .true.
       do while (.not. done)
          call neighbours(r)
-         call step_advance(r%prm, r%g, r%p, r%halo, r%w, r%ss, r%walls, r%bodies, r%ct, r%st%t, r%st%istep + 1, r%st%dt)
+         call step_advance(r%prm, r%por, r%g, r%p, r%halo, r%w, r%ss, r%walls, r%bodies, r%ct, r%st%t, r%st%istep + 1, r%st%dt)
          if (r%st%dt > r%ss%dt_limit) call refuse_fixed_step(r, r%ss%dt_limit)
          if (size(r%bodies) > 0) call contact_memory_advance(r%ct, r%bodies, r%st%dt)
          if (r%zone%on) call damping_apply(r%zone, r%p, r%st%dt)
@@ -259,7 +261,7 @@ contains
    subroutine remove_particles(r)
       type(run_t), intent(inout) :: r
       integer :: i, nd, nr, cnt(2)
-      real(rp) :: x, y
+      real(rp) :: x, y, f(n_por)
       logical(lk), allocatable :: grown(:)
       integer :: ist
       character(len=200) :: emsg
@@ -279,6 +281,11 @@ contains
             r%drop(i) = .true.
             nd = nd + 1
          else if (r%p%rho(i) < r%prm%rho_min .or. r%p%rho(i) > r%prm%rho_max) then
+            ! in the pores the limits hold for the pore water's density rho / n
+            if (r%por%on .and. r%p%rho(i) < r%prm%rho_min) then
+               f = porous_point(r%por, r%p%x(:, i))
+               if (r%p%rho(i)/f(1) >= r%prm%rho_min) cycle
+            end if
             r%drop(i) = .true.
             nr = nr + 1
          end if
@@ -371,7 +378,15 @@ contains
          ! the pressures of the snapshot; the sound speeds into the force
          ! work array, which the next evaluation overwrites
          call forces_ensure(r%w, size(r%p%rho), r%prm)
-         call eos_update(r%prm, r%p%n, r%p%rho, r%p%p, r%w%cs)
+         if (r%prm%porous) then
+            ! the pore water's pressure, from rho / n
+            call porous_field(r%por, r%p%n, r%p%x, r%w%por)
+            r%w%irho(1:r%p%n) = r%p%rho(1:r%p%n)
+            where (r%p%kind(1:r%p%n) == kind_fluid) r%w%irho(1:r%p%n) = r%p%rho(1:r%p%n)/r%w%por(1, 1:r%p%n)
+            call eos_update(r%prm, r%p%n, r%w%irho, r%p%p, r%w%cs)
+         else
+            call eos_update(r%prm, r%p%n, r%p%rho, r%p%p, r%w%cs)
+         end if
          call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
          r%st%isnap = r%st%isnap + 1
          r%st%t_next_snap = (floor(r%st%t/r%rc%dt_out + 1.0e-9_rp) + 1)*r%rc%dt_out

@@ -21,6 +21,7 @@ module step
    use comm, only: comm_max, comm_size, comm_sum, comm_allgatherv
    use errors, only: fatal, alloc_check
    use input_check, only: int_str
+   use porous, only: porous_t, porous_accel, porous_rate_max
    use comm_halo, only: halo_t, comm_halo_reverse, comm_halo_forward, comm_halo_refresh
    implicit none
    private
@@ -43,8 +44,10 @@ contains
    !> ss%dt_limit, the stable step of the state at t. istep is the number of the
    !> step being taken (1 for the first). A fixed step above ss%dt_limit is not
    !> taken: the particles and bodies are left as they were at t.
-   subroutine step_advance(prm, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
+   ! allow(too-many-arguments): the state of the step is these explicit types passed down the step
+   subroutine step_advance(prm, por, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
+      type(porous_t), intent(in) :: por
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(halo_t), intent(inout) :: halo
@@ -58,9 +61,9 @@ contains
       real(rp), intent(out) :: dt
       select case (prm%integrator)
       case (integ_verlet)
-         call verlet(prm, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
+         call verlet(prm, por, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
       case (integ_symplectic, integ_predictor_corrector)
-         call two_stage(prm, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
+         call two_stage(prm, por, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
       case default  ! none: params sets one of the three (options)
          call fatal('internal error: integrator '//int_str(prm%integrator)//' has no scheme')
       end select
@@ -118,8 +121,9 @@ contains
 
    !> Forces of one stage: the pair loop, then (only when the case has
    !> bodies) the fluid force on each body and the contacts.
-   subroutine evaluate(prm, g, p, halo, w, bodies, ct)
+   subroutine evaluate(prm, por, g, p, halo, w, bodies, ct)
       type(params_t), intent(in) :: prm
+      type(porous_t), intent(in) :: por
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(halo_t), intent(inout) :: halo
@@ -128,7 +132,7 @@ contains
       type(contact_t), intent(inout) :: ct
       real(rp), allocatable :: sums(:), mine(:), all(:)
       call timer_start(t_pairs)
-      call forces_prepare(prm, p, w)
+      call forces_prepare(prm, por, p, w)
       call forces_sweep(prm, g, p, w)
       if (prm%kgc == kgc_gradient .or. prm%visc == visc_laminar_sps) then
          ! the pass before the forces: the sums of the halo copies belong to
@@ -157,6 +161,11 @@ contains
       ! the pairs' share of the halo particles, to their owners
       call comm_halo_reverse(halo, w%acc, p%n_own)
       call comm_halo_reverse(halo, w%drho, p%n_own)
+      ! the pore water's acceleration needs the whole pair sums
+      if (por%on) then
+         call comm_halo_reverse(halo, w%gn, p%n_own)
+         call porous_accel(p%n_own, p%kind, w%por, w%gn, p%v, p%p, p%rho, w%acc, w%drho)
+      end if
       if (size(bodies) == 0) return
       call timer_start(t_bodies)
       call bodies_fluid_forces(bodies, p, w%acc)
@@ -182,7 +191,7 @@ contains
       type(body_t), intent(in) :: bodies(:)
       type(contact_t), intent(in) :: ct
       real(rp), intent(out) :: dt_cfl
-      integer, parameter :: n_maxima = 5
+      integer, parameter :: n_maxima = 6
       real(rp) :: a2, m(n_maxima), amax2, cmax
       integer :: i
       amax2 = 0.0_rp
@@ -194,13 +203,16 @@ contains
       end do
       ! largest squared acceleration, sound speed and viscous speed; stiffest
       ! contact; fastest body
-      m = [amax2, cmax, w%mumax, -huge(1.0_rp), -huge(1.0_rp)]
+      m = [amax2, cmax, w%mumax, -huge(1.0_rp), -huge(1.0_rp), 0.0_rp]
       if (size(bodies) > 0) m(4:5) = [-ct%dt_limit, -ct%dt_motion]
+      if (prm%porous) m(6) = porous_rate_max(p%n_own, p%kind, w%por, p%v)
       call comm_max(m)
       dt_cfl = prm%h/(m(2) + m(3))
       if (m(1) > 0.0_rp) dt_cfl = min(dt_cfl, sqrt(prm%h/sqrt(m(1))))
       dt_cfl = prm%cfl*dt_cfl
       if (prm%visc == visc_laminar_sps .and. prm%nu > 0.0_rp) dt_cfl = min(dt_cfl, 0.125_rp*prm%h2/prm%nu)
+      ! the stones' resistance, explicit: a step below half its relaxation time
+      if (m(6) > 0.0_rp) dt_cfl = min(dt_cfl, 0.5_rp/m(6))
       dt = dt_cfl
       if (size(bodies) == 0) return
       a2 = bodies_accel2(bodies)
@@ -231,8 +243,10 @@ contains
 
    !> Symplectic (position Verlet, as in DualSPHysics) or the
    !> predictor-corrector of SPHysics; both evaluate forces twice a step.
-   subroutine two_stage(prm, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
+   ! allow(too-many-arguments): the state of the step is these explicit types passed down the step
+   subroutine two_stage(prm, por, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
+      type(porous_t), intent(in) :: por
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(halo_t), intent(inout) :: halo
@@ -248,7 +262,7 @@ contains
       real(rp) :: hdt, eps, lim, lim_cfl
       logical :: symplectic
       symplectic = prm%integrator /= integ_predictor_corrector
-      call evaluate(prm, g, p, halo, w, bodies, ct)
+      call evaluate(prm, por, g, p, halo, w, bodies, ct)
       call first_stage(prm, p, w, ss, bodies, ct, istep, dt)
       if (dt > ss%dt_limit) return
       hdt = 0.5_rp*dt
@@ -273,7 +287,7 @@ contains
       end if
       call timer_stop(t_integrate)
       call comm_halo_refresh(halo, p)
-      call evaluate(prm, g, p, halo, w, bodies, ct)
+      call evaluate(prm, por, g, p, halo, w, bodies, ct)
       ! the step against the limits of the state at its middle
       lim = stage_dt(prm, p, w, bodies, ct, lim_cfl)
       call note_ratio(ss, dt, [lim_cfl, lim], istep)
@@ -316,8 +330,10 @@ contains
 
    !> Verlet: a leapfrog over two steps, with an Euler step every
    !> verlet_every steps to keep the two interleaved solutions together.
-   subroutine verlet(prm, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
+   ! allow(too-many-arguments): the state of the step is these explicit types passed down the step
+   subroutine verlet(prm, por, g, p, halo, w, ss, walls, bodies, ct, t, istep, dt)
       type(params_t), intent(in) :: prm
+      type(porous_t), intent(in) :: por
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       type(halo_t), intent(inout) :: halo
@@ -332,7 +348,7 @@ contains
       integer :: i
       real(rp) :: vnew(2), rnew, dt2, hdt2
       logical :: euler
-      call evaluate(prm, g, p, halo, w, bodies, ct)
+      call evaluate(prm, por, g, p, halo, w, bodies, ct)
       call first_stage(prm, p, w, ss, bodies, ct, istep, dt)
       if (dt > ss%dt_limit) return
       call timer_start(t_integrate)

@@ -80,6 +80,9 @@ POLYGON_2 = "&polygon role = 'solid', nvert = 2, x = 0.2, 0.3, y = 0.1, 0.1 /\n"
 # is the crossing, not a zero area, that must be reported)
 POLYGON_CROSSED = "&polygon role = 'solid', nvert = 4, x = 0.2, 0.4, 0.4, 0.2, y = 0.1, 0.3, 0.1, 0.2 /\n"
 
+# a porous region beside the water column, on the floor; the cases below fill in its values
+POROUS = "&porous {}, xmin = 0.2, xmax = 0.4, ymin = 0.0, ymax = 0.2 /\n"
+
 # a box body clear of the water and the floor; the cases below give it an oscillation
 BODY = "&body shape = 'box', x = 0.3, y = 0.2, width = 0.06, height = 0.06, {} /\n"
 
@@ -184,6 +187,44 @@ CASES: dict[str, Bad] = {
                                      "strength", range=(0.0, 1.0e4)),
     "wavemaker_paddle_wedge": Bad(BASE + "&wavemaker paddle = 'wedge' /\n", "wavemaker", "paddle",
                                   choices=("piston", "flap")),
+    # &porous: porosity (0, 1], d50 (0, 100] m, alpha [0, 1e6], beta [0, 1e3], gamma [0, 10]
+    "porous_porosity_zero": Bad(BASE + POROUS.format("porosity = 0.0, d50 = 0.05"), "porous #1", "porosity",
+                                range=(0.0, 1.0)),
+    "porous_porosity_above_one": Bad(BASE + POROUS.format("porosity = 1.2, d50 = 0.05"), "porous #1",
+                                     "porosity", range=(0.0, 1.0)),
+    "porous_porosity_missing": Bad(BASE + POROUS.format("d50 = 0.05"), "porous #1", "porosity",
+                                   words=("required",)),
+    "porous_d50_zero": Bad(BASE + POROUS.format("porosity = 0.4, d50 = 0.0"), "porous #1", "d50",
+                           range=(0.0, 100.0)),
+    "porous_d50_missing": Bad(BASE + POROUS.format("porosity = 0.4"), "porous #1", "d50", words=("required",)),
+    "porous_alpha_negative": Bad(BASE + POROUS.format("porosity = 0.4, d50 = 0.05, alpha = -1.0"), "porous #1",
+                                 "alpha", range=(0.0, 1.0e6)),
+    "porous_beta_negative": Bad(BASE + POROUS.format("porosity = 0.4, d50 = 0.05, beta = -1.0"), "porous #1",
+                                "beta", range=(0.0, 1.0e3)),
+    "porous_gamma_negative": Bad(BASE + POROUS.format("porosity = 0.4, d50 = 0.05, gamma = -0.3"), "porous #1",
+                                 "gamma", range=(0.0, 10.0)),
+    # the region reaches x = 0.7 beyond the domain's xmax = 0.5
+    "porous_outside_domain": Bad(BASE + POROUS.format("porosity = 0.4, d50 = 0.05").replace("xmax = 0.4",
+                                 "xmax = 0.7"), "porous #1", "xmin, xmax, ymin, ymax", range=(-0.1, 0.5),
+                                 words=("outside", "&domain")),
+    "porous_overlap": Bad(BASE + POROUS.format("porosity = 0.4, d50 = 0.05")
+                          + POROUS.format("porosity = 0.5, d50 = 0.02").replace("xmin = 0.2", "xmin = 0.3"),
+                          "porous #2", words=("overlaps", "porous #1")),
+    "porous_with_verlet": Bad(edit("integrator = 'symplectic'", "integrator = 'verlet'")
+                              + POROUS.format("porosity = 0.4, d50 = 0.05"), "numerics", "integrator",
+                              choices=("symplectic", "predictor_corrector"), words=("porous",)),
+    "porous_with_shepard": Bad(edit("cfl = 0.2", "cfl = 0.2, kernel_correction = 'shepard'")
+                               + POROUS.format("porosity = 0.4, d50 = 0.05"), "numerics", "kernel_correction",
+                               choices=("none",), words=("porous",)),
+    "porous_with_gradient_correction": Bad(edit("cfl = 0.2", "cfl = 0.2, kernel_correction = 'gradient'")
+                                           + POROUS.format("porosity = 0.4, d50 = 0.05"), "numerics",
+                                           "kernel_correction", choices=("none",), words=("porous",)),
+    "porous_with_sps": Bad(edit("cfl = 0.2", "cfl = 0.2, viscosity = 'laminar_sps'")
+                           + POROUS.format("porosity = 0.4, d50 = 0.05"), "numerics", "viscosity",
+                           choices=("artificial",), words=("porous",)),
+    "porous_with_repulsive": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'repulsive', diffusion = 'none'")
+                                 + POROUS.format("porosity = 0.4, d50 = 0.05"), "numerics", "boundary",
+                                 choices=("dynamic",), words=("porous",)),
 }
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"

@@ -29,12 +29,14 @@ program test_grid
    use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw, kernel_f
    use nbr_list, only: nbr_t, nbr_build
    use fluid_forces, only: forces_work_t, forces_init, forces_prepare, forces_sweep, forces_sweep_last
+   use porous, only: porous_t
    use testing, only: check, check_close, test_summary
    implicit none
    integer, parameter :: n = 900
    type(grid_t) :: g
    type(params_t) :: prm
    type(forces_work_t) :: w
+   type(porous_t) :: por   ! none: the tests' scenes have no porous regions
    type(nbr_t) :: nb
    logical(lk), allocatable :: drop(:)
    real(rp) :: h, r(2), d(2), gw(2), dr, a(2), err_d, err_a, scale_d, scale_a, pij, err_f
@@ -113,7 +115,7 @@ program test_grid
       prm%visc = visc_artificial; prm%alpha = 0.0_rp
       prm%diffusion = diff_none; prm%kgc = kgc_none; prm%integrator = integ_symplectic
       call forces_init(prm)
-      call forces_prepare(prm, p, w)
+      call forces_prepare(prm, por, p, w)
       call forces_sweep(prm, g, p, w)
       call forces_sweep_last(prm, g, p, w)
       err_d = 0.0_rp; err_a = 0.0_rp; scale_d = 0.0_rp; scale_a = 0.0_rp

@@ -1,0 +1,226 @@
+"""The porous-region cases of doc/porous.md, each defined once (the tests of
+tests/test_porous.py run the same texts), with what each is measured against.
+
+- ``drain``: a block of water falling through stones, free on every side: the
+  momentum equation of the pore water with Van Gent's resistance and added mass,
+  (1 + c_A) dV/dt = g - kl V - kq V^2, solved exactly here.
+- ``stones_tank``: still water in a tank filled (``full``) or half filled (``half``)
+  with stones: hydrostatic pressure, one level inside and outside the stones.
+- ``column``: water ponded above a layer of stones in a channel drains through it
+  and falls out below: the flow rate against the Forchheimer law over the layer
+  (quasi-steady, the porosity's transition included).
+
+    .venv/bin/python -m post.porous_cases [--bin build/mbsph] [--out OUT/porous]
+
+runs them all (half a minute on one core) and prints the table of doc/porous.md.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from . import hydrostatic
+from .io import FLUID, list_snapshots, read_snapshot
+
+__all__ = ["G", "NU", "ALPHA", "BETA", "GAMMA", "N", "coefficients", "terminal_velocity", "drain_velocity",
+           "drain_case", "REGIMES", "H", "WIDTH", "TANK_DP", "T_SETTLE", "stones_tank_case", "surface",
+           "column_case", "column_law"]
+
+G = 9.81
+NU = 1.0e-6
+# Van Gent (1995): the defaults of &porous
+ALPHA, BETA, GAMMA = 1000.0, 1.1, 0.34
+N = 0.4
+
+
+def coefficients(n: float, d50: float) -> tuple[float, float, float]:
+    """kl [1/s], kq [1/m] and c_A of the pore water's momentum in the pore velocity V (doc/porous.md)."""
+    a = ALPHA * (1 - n) ** 2 / n ** 3 * NU / (G * d50 ** 2)   # Van Gent's a [s/m], in the Darcy velocity
+    b = BETA * (1 - n) / n ** 3 / (G * d50)                  # and b [s2/m2]
+    return G * a * n, G * b * n * n, GAMMA * (1 - n) / n
+
+
+def terminal_velocity(n: float, d50: float) -> float:
+    """The pore velocity at which the resistance carries the water's weight (I = 1)."""
+    kl, kq, _ = coefficients(n, d50)
+    return (-kl + math.sqrt(kl * kl + 4 * kq * G)) / (2 * kq)
+
+
+def drain_velocity(n: float, d50: float, t: np.ndarray) -> np.ndarray:
+    """V(t) from rest of (1 + c_A) dV/dt = g - kl V - kq V^2."""
+    kl, kq, ca = coefficients(n, d50)
+    sol = solve_ivp(lambda _t, v: [(G - kl * v[0] - kq * v[0] ** 2) / (1 + ca)], (0.0, float(t[-1])), [0.0],
+                    t_eval=t, rtol=1e-10, atol=1e-12)
+    return sol.y[0]
+
+
+# Stone sizes whose terminal flow is Darcy (linear share of the resistance 0.98),
+# transitional (0.42) and turbulent (0.05).
+REGIMES = {"darcy": 0.002, "transitional": 0.01, "turbulent": 0.05}
+
+
+def drain_case(d50: float, out_dir: str = "OUT", n: float = N) -> str:
+    """The block falls through still air, not water: Molteni's density diffusion, whose
+    reference is no hydrostatic column; h_swl = 0.01 m starts it at the pressure of 1 cm
+    of water, c0 from the same depth."""
+    return f"""\
+&run case_name = 'drain', t_end = 0.6, dt_out = 0.05, out_dir = '{out_dir}' /
+&domain xmin = -0.05, xmax = 0.45, ymin = -0.05, ymax = 1.05 /
+&fluid h_swl = 0.01, coef = 20.0 /
+&numerics dp = 0.01, integrator = 'symplectic', diffusion = 'molteni' /
+&porous porosity = {n}, d50 = {d50}, xmin = 0.0, xmax = 0.4, ymin = 0.0, ymax = 1.0 /
+&box role = 'fluid', xmin = 0.1, xmax = 0.3, ymin = 0.6, ymax = 0.8 /
+"""
+
+
+H = 0.5                       # still-water depth of the tanks (m)
+WIDTH = 1.0                   # tank width (m)
+TANK_DP = H / 25              # 25 particles over the depth, as the open-water tank of tests/test_cases.py
+T_SETTLE = 20.0 * math.sqrt(H / G)
+
+
+def stones_tank_case(stones: str, out_dir: str = "OUT", h_over_dp: float = 2.0) -> str:
+    """Still water H deep in a tank WIDTH wide, walls 3 dp thick, the stones (n = 0.4,
+    D = 0.02 m) reaching into the walls and the floor: over the whole tank (``full``) or
+    its right half (``half``). h = 2 dp: the pores at n = 0.4 hold one particle per
+    dp^2/n, and h = 2 dp keeps the kernel 1.26 of their spacing wide."""
+    w = 3 * TANK_DP
+    x0 = {"full": -w, "half": 0.5 * WIDTH}[stones]
+    t_end = math.ceil(T_SETTLE * 10.0) / 10.0
+    return f"""\
+&run case_name = 'stones_tank_{stones}', t_end = {t_end}, dt_out = 0.5, out_dir = '{out_dir}' /
+&domain xmin = {-w - 0.05 * WIDTH}, xmax = {WIDTH + w + 0.05 * WIDTH}, ymin = {-w - 0.05 * WIDTH}, ymax = {1.6 * H} /
+&fluid rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = 9.81 /
+&numerics dp = {TANK_DP}, h_over_dp = {h_over_dp}, kernel = 'wendland', integrator = 'symplectic',
+  viscosity = 'artificial', alpha = 0.02, diffusion = 'fourtakas', delta = 0.1 /
+&box role = 'fluid', xmin = 0.0, xmax = {WIDTH}, ymin = 0.0, ymax = {H} /
+&box role = 'solid', xmin = {-w}, xmax = {WIDTH + w}, ymin = {-w}, ymax = 0.0 /
+&box role = 'solid', xmin = {-w}, xmax = 0.0, ymin = 0.0, ymax = {1.4 * H} /
+&box role = 'solid', xmin = {WIDTH}, xmax = {WIDTH + w}, ymin = 0.0, ymax = {1.4 * H} /
+&porous porosity = {N}, d50 = 0.02, xmin = {x0}, xmax = {WIDTH + w}, ymin = {-w}, ymax = {1.4 * H} /
+"""
+
+
+def surface(snap, x0: float, x1: float) -> float:
+    """The water level between x0 and x1: the highest particles' centres plus half their spacing."""
+    f = snap.kind == FLUID
+    x = snap.position[f]
+    m = (x[:, 0] > x0) & (x[:, 0] < x1)
+    top = np.sort(x[m, 1])[-5:].mean()
+    near = m & (x[:, 1] > top - TANK_DP)
+    spacing = np.sqrt(np.mean(snap.mass[f][near]) / np.mean(snap.density[f][near]))
+    return float(top + 0.5 * spacing)
+
+
+COLUMN_L = 0.1                # layer thickness (m)
+COLUMN_W = 0.1                # channel width (m)
+
+
+def column_case(d50: float, out_dir: str = "OUT", dp: float = 0.005) -> str:
+    """A channel COLUMN_W wide: water 0.3 m deep above a layer of stones COLUMN_L thick,
+    nothing below the layer; the water drains through and leaves the domain."""
+    return f"""\
+&run case_name = 'column', t_end = 1.0, dt_out = 0.05, out_dir = '{out_dir}', max_lost_fraction = 1.0 /
+&domain xmin = -0.03, xmax = 0.13, ymin = -0.05, ymax = 0.5 /
+&fluid coef = 10.0 /
+&numerics dp = {dp}, integrator = 'symplectic' /
+&porous porosity = {N}, d50 = {d50}, xmin = -0.015, xmax = 0.115, ymin = 0.0, ymax = {COLUMN_L} /
+&box role = 'fluid', xmin = 0.0, xmax = {COLUMN_W}, ymin = 0.0, ymax = 0.4 /
+&box role = 'solid', xmin = -0.015, xmax = 0.0, ymin = 0.0, ymax = 0.45 /
+&box role = 'solid', xmin = {COLUMN_W}, xmax = 0.115, ymin = 0.0, ymax = 0.45 /
+"""
+
+
+def column_law(head: float, d50: float, width: float) -> float:
+    """The Darcy velocity u [m/s] of steady flow through the layer under the water depth
+    ``head`` above it (pressure zero at the exit below): g (head + L) equals the integral
+    of the resistance kl(n) V + kq(n) V^2, V = u / n, over the smooth porosity profile of
+    transition ``width``."""
+    y = np.linspace(-width, COLUMN_L + width, 20001)
+    d = np.minimum(y, COLUMN_L - y)
+    t = np.clip(d / width + 0.5, 0, 1) if width > 0 else (d > 0).astype(float)
+    s = t * t * (3 - 2 * t) if width > 0 else t
+    n = 1 - s * (1 - N)
+    kl = s * ALPHA * NU * (1 - n) ** 2 / (n * n * d50 * d50)
+    kq = s * BETA * (1 - n) / (n * d50)
+
+    def excess(u: float) -> float:
+        v = u / n
+        return float(np.trapezoid(kl * v + kq * v * v, y)) - G * (head + COLUMN_L)
+    return brentq(excess, 1e-6, 10.0)
+
+
+def _run(binary: str, text: str, out: Path) -> Path:
+    out.mkdir(parents=True, exist_ok=True)
+    if (out / "OUT").exists():
+        shutil.rmtree(out / "OUT")          # this tool's own earlier run
+    (out / "case.nml").write_text(text)
+    subprocess.run([binary, "case.nml"], cwd=out, check=True, capture_output=True, text=True)
+    return out / "OUT"
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--bin", default="build/mbsph")
+    ap.add_argument("--out", default="OUT/porous")
+    a = ap.parse_args()
+    binary = str(Path(a.bin).resolve())
+    root = Path(a.out)
+    print("| case | measured | against | difference |")
+    print("|---|---|---|---|")
+    for name, d50 in REGIMES.items():
+        out = _run(binary, drain_case(d50), root / f"drain_{name}")
+        snaps = [read_snapshot(p) for p in list_snapshots(out)]
+        t = np.array([s.time for s in snaps[1:]])
+        v = np.array([-s.velocity[s.kind == FLUID, 1].mean() for s in snaps[1:]])
+        exact = drain_velocity(N, d50, t)
+        vt = terminal_velocity(N, d50)
+        late = v[t >= 0.4].mean()
+        print(f"| drainage, D = {d50} m ({name}) | V(t) from rest; V at t >= 0.4 s: {late:.5f} m/s | "
+              f"the momentum equation; terminal {vt:.5f} m/s | largest {100 * np.max(np.abs(v / exact - 1)):.3f} %; "
+              f"terminal {100 * (late / vt - 1):+.3f} % |")
+    for stones in ("full", "half"):
+        out = _run(binary, stones_tank_case(stones), root / f"tank_{stones}")
+        snap = read_snapshot(list_snapshots(out)[-1])
+        ys = hydrostatic.sample_heights(snap, 0.0, H, n=10)
+        speed = np.hypot(*snap.velocity[snap.kind == FLUID].T).mean() / math.sqrt(G * H)
+        if stones == "full":
+            p = hydrostatic.profile(snap, 0.5 * WIDTH, ys)
+            fit = hydrostatic.bed_pressure(ys, p, 0.0)
+            dev = np.nanmax(np.abs(p - 1000.0 * G * (H - ys))) / (1000.0 * G * H)
+            print(f"| still tank filled with stones, t = {snap.time:.1f} s | bed pressure {fit.p_bed:.0f} Pa, "
+                  f"mean speed {speed:.1e} sqrt(gH) | rho g H = {1000 * G * H:.0f} Pa | "
+                  f"{100 * (fit.p_bed / (1000 * G * H) - 1):+.2f} %, profile within {100 * dev:.2f} % |")
+        else:
+            lo, li = surface(snap, 0.1, 0.3), surface(snap, 0.7, 0.9)
+            p_out = hydrostatic.profile(snap, 0.2, ys)
+            p_in = hydrostatic.profile(snap, 0.8, ys)
+            dp_max = np.nanmax(np.abs(p_in - p_out)) / (1000.0 * G * H)
+            print(f"| still tank half filled with stones, t = {snap.time:.1f} s | level inside {li:.4f} m, "
+                  f"outside {lo:.4f} m; mean speed {speed:.1e} sqrt(gH) | one level, one pressure at one depth | "
+                  f"{1000 * (li - lo):+.1f} mm ({(li - lo) / TANK_DP:+.2f} dp); pressures within "
+                  f"{100 * dp_max:.2f} % of rho g H |")
+    d50 = 0.01
+    out = _run(binary, column_case(d50), root / "column")
+    for snap in [read_snapshot(p) for p in list_snapshots(out)][6::6]:
+        f = snap.kind == FLUID
+        x, v = snap.position[f], snap.velocity[f]
+        above = x[:, 1] > COLUMN_L + 0.02
+        head = (x[:, 1] > COLUMN_L).sum() * 0.005 ** 2 / COLUMN_W
+        u = -v[above, 1].mean()
+        law = column_law(head, d50, 2.0 * 0.005 * math.sqrt(2.0))
+        print(f"| column, D = {d50} m, t = {snap.time:.2f} s | Darcy velocity {u:.4f} m/s under {head:.3f} m | "
+              f"Forchheimer law, quasi-steady: {law:.4f} m/s | {100 * (u / law - 1):+.1f} % |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

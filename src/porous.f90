@@ -1,0 +1,169 @@
+!> Porous regions: the porosity a fluid particle sees where it is, and the
+!> volume-averaged momentum of the water in the pores (doc/porous.md). In a
+!> region of porosity n the particles move with the pore (seepage) velocity
+!> V; the density the continuity equation integrates is the superficial one,
+!> n rho, and the pressure comes from the pore water's density rho. The pair
+!> loop sums the gradient of n p (every particle lends it n p), which
+!> conserves momentum pair by pair; porous_accel adds what the stones give
+!> back where the porosity changes, p grad n / (n rho), so that the pore
+!> water feels -grad p / rho; the stones resist by the Forchheimer law of Van
+!> Gent (1995) in the Darcy velocity u = n V, and their added mass makes the
+!> water heavier to accelerate by 1 + c_A.
+module porous
+   use kinds, only: rp
+   use constants, only: kind_fluid, ndim
+   use geom, only: point_in_polygon
+   implicit none
+   private
+   public :: porous_region_t, porous_t, porous_point, porous_field, porous_accel, porous_rate_max, n_por
+
+   !> Rows of the per-particle porous properties (porous_field): the porosity,
+   !> the linear resistance rate, the quadratic resistance factor, the added
+   !> mass, the gradient of the porosity (ndim rows).
+   integer, parameter :: n_por = 4 + ndim
+
+   type :: porous_region_t
+      real(rp), allocatable :: v(:, :)   !< outline (2, nv), counter-clockwise [m]
+      real(rp) :: bb(4) = 0.0_rp          !< bounding box grown by half the width: xmin, xmax, ymin, ymax [m]
+      real(rp) :: n = 1.0_rp              !< porosity [-]
+      real(rp) :: d50 = 1.0_rp            !< nominal stone diameter [m]
+      real(rp) :: alpha = 0.0_rp          !< linear resistance coefficient [-]
+      real(rp) :: beta = 0.0_rp           !< quadratic resistance coefficient [-]
+      real(rp) :: gamma = 0.0_rp          !< added-mass coefficient [-]
+      real(rp) :: nu = 1.0e-6_rp          !< kinematic viscosity of the pore water [m2/s]
+      real(rp) :: width = 0.0_rp          !< width of the transition from 1 to n across the outline [m]
+   end type porous_region_t
+
+   type :: porous_t
+      logical :: on = .false.
+      type(porous_region_t), allocatable :: r(:)
+   end type porous_t
+
+contains
+
+   !> The porous properties at a point: porosity n, linear rate kl [1/s],
+   !> quadratic factor kq [1/m] and added mass ca, so that the stones'
+   !> resistance per unit mass of pore water is (kl + kq |V|) V, and grad n
+   !> [1/m]. Each region weighs in by a smooth step s of the signed distance to
+   !> its outline (0 a half width outside, 1 a half width inside);
+   !> n = 1 - sum s (1 - n_r), and the coefficients take the local n.
+   pure function porous_point(por, x) result(f)
+      type(porous_t), intent(in) :: por
+      real(rp), intent(in) :: x(ndim)
+      real(rp) :: f(n_por)
+      real(rp) :: s(size(por%r)), n, t, d, gd(ndim), gn(ndim)
+      integer :: k
+      s = 0.0_rp
+      gn = 0.0_rp
+      do k = 1, size(por%r)
+         associate (r => por%r(k))
+            if (x(1) < r%bb(1) .or. x(1) > r%bb(2) .or. x(2) < r%bb(3) .or. x(2) > r%bb(4)) cycle
+            call signed_distance(x, r%v, d, gd)
+            if (r%width > 0.0_rp) then
+               t = min(max(d/r%width + 0.5_rp, 0.0_rp), 1.0_rp)
+               s(k) = t*t*(3.0_rp - 2.0_rp*t)
+               gn = gn - (1.0_rp - r%n)*6.0_rp*t*(1.0_rp - t)/r%width*gd
+            else
+               s(k) = merge(1.0_rp, 0.0_rp, d > 0.0_rp)
+            end if
+         end associate
+      end do
+      f = 0.0_rp
+      f(1) = 1.0_rp
+      if (all(s <= 0.0_rp)) return
+      n = 1.0_rp - sum(s*(1.0_rp - por%r%n))
+      f(1) = n
+      f(5:) = gn
+      do k = 1, size(por%r)
+         if (s(k) <= 0.0_rp) cycle
+         associate (r => por%r(k))
+            ! Van Gent (1995): I = a u + b u|u| with a = alpha (1-n)^2/n^3 nu/(g D^2),
+            ! b = beta (1-n)/n^3 /(g D); per unit mass g I, in V = u/n
+            f(2) = f(2) + s(k)*r%alpha*r%nu*(1.0_rp - n)**2/(n*n*r%d50*r%d50)
+            f(3) = f(3) + s(k)*r%beta*(1.0_rp - n)/(n*r%d50)
+            f(4) = f(4) + s(k)*r%gamma*(1.0_rp - n)/n
+         end associate
+      end do
+   end function porous_point
+
+   !> Signed distance d from x to the outline v (> 0 inside) and its gradient.
+   pure subroutine signed_distance(x, v, d, gd)
+      real(rp), intent(in) :: x(ndim), v(:, :)
+      real(rp), intent(out) :: d, gd(ndim)
+      integer :: e, f, nv
+      real(rp) :: a(ndim), w(ndim), t, dd, q(ndim)
+      nv = size(v, 2)
+      d = huge(1.0_rp)
+      gd = 0.0_rp
+      do e = 1, nv
+         f = modulo(e, nv) + 1
+         a = v(:, f) - v(:, e)
+         w = x - v(:, e)
+         t = max(0.0_rp, min(1.0_rp, dot_product(w, a)/max(dot_product(a, a), tiny(1.0_rp))))
+         q = w - t*a
+         dd = norm2(q)
+         if (dd < d) then
+            d = dd
+            gd = q/max(dd, tiny(1.0_rp))        ! from the outline to x
+         end if
+      end do
+      if (.not. point_in_polygon(x(1:2), v)) then
+         d = -d
+         gd = -gd
+      end if
+   end subroutine signed_distance
+
+   !> The porous properties of particles 1..n, where they are: the fluid's
+   !> pores, and the porosity every particle lends its pressure with (walls and
+   !> bodies inside a region too, so that n p is smooth across them).
+   subroutine porous_field(por, n, x, f)
+      type(porous_t), intent(in) :: por
+      integer, intent(in) :: n
+      real(rp), intent(in) :: x(:, :)
+      real(rp), intent(inout) :: f(:, :)
+      integer :: i
+      do i = 1, n
+         f(:, i) = porous_point(por, x(:, i))
+      end do
+   end subroutine porous_field
+
+   !> The acceleration of the pore water of the fluid particles among 1..n
+   !> from acc, which holds the pair sums (of grad (n p)) and gravity: plus
+   !> what the stones give back, p grad n / rho_s (grad n as the pair loop's
+   !> pressure term sees it, gn: so that a constant pressure pushes nothing),
+   !> minus the resistance, all
+   !> over 1 + c_A; the rates of wall and body particles among the pores back
+   !> to their own mass and density. Outside the regions nothing changes.
+   subroutine porous_accel(n, kind, f, gn, v, p, rho, acc, drho)
+      integer, intent(in) :: n, kind(:)
+      real(rp), intent(in) :: f(:, :), gn(:, :), v(:, :), p(:), rho(:)
+      real(rp), intent(inout) :: acc(:, :), drho(:)
+      integer :: i
+      do i = 1, n
+         if (f(1, i) >= 1.0_rp) cycle
+         if (kind(i) /= kind_fluid) then
+            ! a wall or body particle among the pores took part in the pairs as
+            ! pore water of mass n m and density n rho: its own density rate and
+            ! its share of the force on its body, per unit of its true mass
+            drho(i) = drho(i)/f(1, i)
+            acc(:, i) = f(1, i)*acc(:, i)
+            cycle
+         end if
+         acc(:, i) = (acc(:, i) + p(i)/rho(i)*gn(:, i) - (f(2, i) + f(3, i)*norm2(v(:, i)))*v(:, i))/ &
+                     (1.0_rp + f(4, i))
+      end do
+   end subroutine porous_accel
+
+   !> The largest rate of the resistance's linearisation, (kl + 2 kq |V|)/(1 + c_A),
+   !> over the fluid particles among 1..n [1/s]: an explicit step must stay below its inverse.
+   real(rp) function porous_rate_max(n, kind, f, v) result(k)
+      integer, intent(in) :: n, kind(:)
+      real(rp), intent(in) :: f(:, :), v(:, :)
+      integer :: i
+      k = 0.0_rp
+      do i = 1, n
+         if (f(1, i) >= 1.0_rp .or. kind(i) /= kind_fluid) cycle
+         k = max(k, (f(2, i) + 2.0_rp*f(3, i)*norm2(v(:, i)))/(1.0_rp + f(4, i)))
+      end do
+   end function porous_rate_max
+end module porous

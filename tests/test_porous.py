@@ -1,0 +1,142 @@
+"""Porous regions (doc/porous.md) against the laws they solve; the cases are those of
+post/porous_cases.py, which prints the table of doc/porous.md.
+
+- Drainage: a block of water inside stones, free on every side, falls under gravity
+  against the stones' resistance. Its pressure stays near zero, so the pore velocity V
+  obeys (1 + c_A) dV/dt = g - kl V - kq V^2 (Van Gent's Forchheimer law with the added
+  mass): the block's mean velocity must follow that equation's solution and reach its
+  terminal velocity, the flow rate at which the head loss per unit length is 1. Three
+  stone sizes put the flow in the Darcy, the transitional and the turbulent regime.
+- Still water in a tank filled with stones: the pore water's pressure is hydrostatic and
+  it stays at rest, to the bars of the open-water tank (tests/test_cases.py), walls and
+  floor among the pores.
+- Still water in a tank half filled with stones: the water stands at one level inside
+  and outside the stones (communicating vessels) and has one pressure at one depth.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import assert_ok, run_case
+from post import hydrostatic
+from post.io import FLUID, list_snapshots, read_snapshot
+from post.porous_cases import (G, H, N, REGIMES, T_SETTLE, TANK_DP, WIDTH, coefficients, drain_case,
+                               drain_velocity, stones_tank_case, surface, terminal_velocity)
+
+
+@pytest.fixture(scope="module", params=sorted(REGIMES))
+def drain(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory, mbsph: Path):
+    d50 = REGIMES[request.param]
+    proc, out = run_case(drain_case(d50), tmp_path_factory.mktemp(f"drain_{request.param}"))
+    assert_ok(proc)
+    rows = []
+    for path in list_snapshots(out):
+        snap = read_snapshot(path)
+        fluid = snap.kind == FLUID
+        rows.append((snap.time, -snap.velocity[fluid, 1].mean(), int(fluid.sum()),
+                     float(np.abs(snap.pressure[fluid]).max())))
+    return request.param, d50, np.array(rows)
+
+
+def test_drainage_regime_is_the_one_named(drain) -> None:
+    """The stone sizes span the regimes: the linear share of the terminal resistance."""
+    name, d50, _ = drain
+    kl, _, _ = coefficients(N, d50)
+    share = kl * terminal_velocity(N, d50) / G
+    assert {"darcy": share > 0.9, "transitional": 0.2 < share < 0.8, "turbulent": share < 0.1}[name], share
+
+
+def test_drainage_reaches_the_forchheimer_flow_rate(drain) -> None:
+    """Terminal pore velocity within 0.5 % of the root of kl V + kq V^2 = g (I = 1)."""
+    _, d50, rows = drain
+    vt = terminal_velocity(N, d50)
+    late = rows[rows[:, 0] >= 0.4, 1]
+    assert late.size >= 4
+    assert np.all(np.abs(late / vt - 1) < 0.005), (late, vt)
+
+
+def test_drainage_follows_the_momentum_equation(drain) -> None:
+    """V(t) from rest within 1 % of (1 + c_A) dV/dt = g - kl V - kq V^2 at every snapshot."""
+    _, d50, rows = drain
+    exact = drain_velocity(N, d50, rows[1:, 0])
+    assert np.all(np.abs(rows[1:, 1] / exact - 1) < 0.01), list(zip(rows[1:, 0], rows[1:, 1], exact))
+
+
+def test_drainage_keeps_the_water_and_its_pressure_near_zero(drain) -> None:
+    """No particle lost; the pressure of the free-falling block stays below 5 % of
+    rho g (block height) at every particle."""
+    _, _, rows = drain
+    assert np.all(rows[:, 2] == rows[0, 2])
+    assert np.all(rows[1:, 3] < 0.05 * 1000.0 * G * 0.2), rows[:, 3]
+
+
+def stones_tank(stones: str, tmp: Path):
+    """The last snapshot of the still tank with stones, after T_SETTLE."""
+    proc, out = run_case(stones_tank_case(stones), tmp)
+    assert_ok(proc)
+    snap = read_snapshot(list_snapshots(out)[-1])
+    assert snap.time >= T_SETTLE
+    return snap
+
+
+@pytest.fixture(scope="module")
+def full_tank(tmp_path_factory: pytest.TempPathFactory, mbsph: Path):
+    return stones_tank("full", tmp_path_factory.mktemp("stones_full"))
+
+
+@pytest.fixture(scope="module")
+def half_tank(tmp_path_factory: pytest.TempPathFactory, mbsph: Path):
+    return stones_tank("half", tmp_path_factory.mktemp("stones_half"))
+
+
+def test_stones_tank_is_hydrostatic(full_tank) -> None:
+    """Filled with stones: the bed pressure by a linear fit within 2 % of rho g H and the
+    profile within 3 % of rho g H (the open-water tank's bars), in the middle of the tank."""
+    ys = hydrostatic.sample_heights(full_tank, 0.0, H, n=10)
+    p = hydrostatic.profile(full_tank, 0.5 * WIDTH, ys)
+    fit = hydrostatic.bed_pressure(ys, p, 0.0)
+    p_ref = 1000.0 * G * H
+    assert abs(fit.p_bed / p_ref - 1) <= 0.02, (fit.p_bed, p_ref)
+    assert np.nanmax(np.abs(p - 1000.0 * G * (H - ys))) <= 0.03 * p_ref
+
+
+def test_stones_tank_is_at_rest(full_tank) -> None:
+    """Filled with stones: mean speed below 1e-3 sqrt(gH), the open-water tank's bar."""
+    speed = np.hypot(*full_tank.velocity[full_tank.kind == FLUID].T)
+    assert speed.mean() <= 1e-3 * math.sqrt(G * H), speed.mean()
+
+
+def test_half_stones_tank_has_one_level(half_tank) -> None:
+    """Half filled with stones: one water level inside and outside the stones within half
+    a particle spacing. (The water by the stones' edge still moves at a few 1e-3 sqrt(gH)
+    after T_SETTLE: doc/porous.md.)"""
+    outside = surface(half_tank, 0.1, 0.3)
+    inside = surface(half_tank, 0.7, 0.9)
+    assert abs(inside - outside) <= 0.5 * TANK_DP, (inside, outside)
+
+
+def test_half_stones_tank_has_one_pressure_at_one_depth(half_tank) -> None:
+    """Half filled with stones: at three depths the pressure inside and outside the
+    stones agree within 2 % of rho g H."""
+    ys = np.array([0.2, 0.4, 0.6]) * H
+    p_out = hydrostatic.profile(half_tank, 0.2, ys)
+    p_in = hydrostatic.profile(half_tank, 0.8, ys)
+    assert np.all(np.abs(p_in - p_out) <= 0.02 * 1000.0 * G * H), (p_in, p_out)
+
+
+def test_debug_build_half_stones_tank(tmp_path: Path, mbsph_debug: Path) -> None:
+    """The debug build (bounds checks, traps on invalid, zero-division and overflow) runs
+    50 steps of the tank half filled with stones (pores, their edge, walls among them),
+    and the water is still near rest: the mean speed below 1e-2 sqrt(gH)."""
+    text = stones_tank_case("half").replace("dt_out = 0.5,", "dt_out = 0.5, max_steps = 50,")
+    proc, out = run_case(text, tmp_path, binary=mbsph_debug)
+    assert_ok(proc)
+    snap = read_snapshot(list_snapshots(out)[-1])
+    assert snap.attrs["step"] == 50
+    speed = np.hypot(*snap.velocity[snap.kind == FLUID].T)
+    assert speed.mean() < 1e-2 * math.sqrt(G * H), speed.mean()

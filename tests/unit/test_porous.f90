@@ -1,0 +1,173 @@
+!> The porous field (module porous) against what it must be: inside a region
+!> the porosity and Van Gent's coefficients of that region; outside, none;
+!> across the outline a smooth step that takes half the drop at the outline
+!> and is done a half width away; two regions sharing an edge meet at the mean
+!> of their porosities without a jump; the gradient of the porosity is the
+!> finite-difference one; the pore water's acceleration balances gravity at
+!> the terminal velocity of the Forchheimer law, and its pressure gradient
+!> with the stones' share balances gravity in still water.
+program test_porous
+   use kinds, only: rp
+   use constants, only: ndim, kind_fluid, kind_fixed
+   use porous, only: porous_t, porous_point, porous_field, porous_accel, porous_rate_max, n_por
+   use testing, only: check, check_close, test_summary
+   implicit none
+   type(porous_t) :: por
+   real(rp) :: f(n_por), fa(n_por), fb(n_por), kl, kq, ca, n, d, g, vt, eps, jump
+   real(rp) :: x(ndim, 2), v(ndim, 2), acc(ndim, 2), ff(n_por, 2), pr(2), rs(2), dr(2), gfd(ndim), xp(ndim)
+   real(rp), parameter :: hfd = 1.0e-6_rp
+   real(rp) :: pts(ndim, 3)
+   integer :: k, c
+
+   ! a core 1 m x 0.5 m (n = 0.4, D = 0.05 m) with a filter layer (n = 0.5,
+   ! D = 0.02 m) on top of it, sharing the edge y = 0.5; transition 0.04 m wide
+   por%on = .true.
+   allocate (por%r(2))
+   call region(por%r(1), 0.0_rp, 1.0_rp, 0.0_rp, 0.5_rp, 0.4_rp, 0.05_rp)
+   call region(por%r(2), 0.0_rp, 1.0_rp, 0.5_rp, 0.6_rp, 0.5_rp, 0.02_rp)
+
+   ! deep inside the core: its own porosity and Van Gent's coefficients
+   n = 0.4_rp
+   d = 0.05_rp
+   f = porous_point(por, [0.5_rp, 0.25_rp])
+   call check_close(f(1), n, 1.0e-15_rp, 'porosity inside')
+   kl = 1000.0_rp*1.0e-6_rp*(1.0_rp - n)**2/(n**3*d*d)*n          ! g a n: alpha (1-n)^2/n^3 nu/D^2 times n
+   kq = 1.1_rp*(1.0_rp - n)/(n**3*d)*n*n                           ! g b n^2: beta (1-n)/n^3 /D times n^2
+   ca = 0.34_rp*(1.0_rp - n)/n
+   call check_close(f(2), kl, 1.0e-14_rp, 'linear rate inside')
+   call check_close(f(3), kq, 1.0e-14_rp, 'quadratic factor inside')
+   call check_close(f(4), ca, 1.0e-14_rp, 'added mass inside')
+
+   ! outside every region, and a half width outside the outline: no pores
+   f = porous_point(por, [1.5_rp, 0.25_rp])
+   call check(maxval(abs(f - [1.0_rp, 0.0_rp, 0.0_rp, 0.0_rp, 0.0_rp, 0.0_rp])) < tiny(1.0_rp), 'no pores outside')
+   f = porous_point(por, [1.02_rp + 1.0e-12_rp, 0.25_rp])
+   call check(abs(f(1) - 1.0_rp) < tiny(1.0_rp), 'no pores a half width outside')
+   f = porous_point(por, [0.98_rp - 1.0e-12_rp, 0.25_rp])
+   call check_close(f(1), n, 1.0e-12_rp, 'all of the porosity a half width inside')
+   ! on the outline: half of the drop
+   f = porous_point(por, [1.0_rp, 0.25_rp])
+   call check_close(f(1), 1.0_rp - 0.5_rp*(1.0_rp - n), 1.0e-14_rp, 'half the drop on the outline')
+
+   ! the step is smooth: the largest change between points 1 mm apart across
+   ! the outline stays near the slope of the smoothstep, 1.5 (1 - n)/width per m
+   jump = 0.0_rp
+   fa = porous_point(por, [0.95_rp, 0.25_rp])
+   do k = 1, 100
+      fb = porous_point(por, [0.95_rp + 0.001_rp*k, 0.25_rp])
+      jump = max(jump, abs(fb(1) - fa(1)))
+      fa = fb
+   end do
+   call check(jump <= 1.5_rp*(1.0_rp - n)/0.04_rp*0.001_rp*1.0001_rp, 'no jump across the outline')
+
+   ! two regions sharing an edge: the mean of their porosities on it, and no jump across it
+   f = porous_point(por, [0.5_rp, 0.5_rp])
+   call check_close(f(1), 0.45_rp, 1.0e-14_rp, 'mean porosity on a shared edge')
+   jump = 0.0_rp
+   fa = porous_point(por, [0.5_rp, 0.45_rp])
+   do k = 1, 100
+      fb = porous_point(por, [0.5_rp, 0.45_rp + 0.001_rp*k])
+      jump = max(jump, abs(fb(1) - fa(1)))
+      fa = fb
+   end do
+   call check(jump <= 1.5_rp*0.1_rp/0.04_rp*0.001_rp*1.0001_rp, 'no jump across a shared edge')
+
+   ! grad n against central differences, across the core's side, its top and a corner
+   do k = 1, 3
+      pts = reshape([0.99_rp, 0.3_rp, 0.4_rp, 0.51_rp, 0.995_rp, 0.49_rp], [2, 3])
+      xp = pts(:, k)
+      f = porous_point(por, xp)
+      do c = 1, ndim
+         fa = porous_point(por, xp - hfd*unit(c))
+         fb = porous_point(por, xp + hfd*unit(c))
+         gfd(c) = (fb(1) - fa(1))/(2.0_rp*hfd)
+      end do
+      call check(norm2(f(5:) - gfd) <= 1.0e-6_rp*max(norm2(gfd), 1.0_rp), 'grad n against finite differences')
+   end do
+   call check(norm2(porous_point(por, [0.5_rp, 0.25_rp]) - [n, kl, kq, ca, 0.0_rp, 0.0_rp]) < 1.0e-12_rp, &
+              'no gradient deep inside')
+
+   ! the field of particles: wall particles lend their pressure with the porosity where they are
+   x(:, 1) = [0.5_rp, 0.25_rp]
+   x(:, 2) = [0.5_rp, 0.25_rp]
+   call porous_field(por, 2, x, ff)
+   call check_close(ff(1, 1), n, 1.0e-15_rp, 'fluid particle in the core')
+   call check_close(ff(1, 2), n, 1.0e-15_rp, 'wall particle in the core')
+
+   ! with no pair forces, the pore water falls at the terminal velocity of
+   ! the Forchheimer law, where kl V + kq V^2 = g: the acceleration vanishes
+   g = 9.81_rp
+   f = porous_point(por, [0.5_rp, 0.25_rp])
+   vt = (-f(2) + sqrt(f(2)**2 + 4.0_rp*f(3)*g))/(2.0_rp*f(3))
+   v(:, 1) = [0.0_rp, -vt]
+   v(:, 2) = [0.0_rp, -0.5_rp*vt]
+   acc(:, 1) = [0.0_rp, -g]
+   acc(:, 2) = [0.0_rp, -g]
+   ff(:, 2) = ff(:, 1)
+   pr = 0.0_rp
+   dr = 0.0_rp
+   rs = 400.0_rp
+   call porous_accel(2, [kind_fluid, kind_fluid], ff, ff(5:, :), v, pr, rs, acc, dr)
+   call check(abs(acc(2, 1)) < 1.0e-12_rp*g, 'terminal velocity: no acceleration')
+   ! slower: accelerated by what the resistance leaves of gravity, over 1 + c_A
+   eps = (g - f(2)*0.5_rp*vt - f(3)*(0.5_rp*vt)**2)/(1.0_rp + f(4))
+   call check_close(-acc(2, 2), eps, 1.0e-13_rp, 'accelerating pore water')
+   ! the rate that limits an explicit step: the derivative of the resistance over 1 + c_A
+   call check_close(porous_rate_max(1, [kind_fluid], ff, v), (f(2) + 2.0_rp*f(3)*vt)/(1.0_rp + f(4)), 1.0e-14_rp, &
+                    'resistance rate')
+   ! a wall particle among the pores took part in the pairs as pore water of
+   ! mass n m and density n rho: back to its own mass and density
+   acc(:, 2) = [0.1_rp, -0.2_rp]
+   dr(2) = 3.0_rp
+   call porous_accel(2, [kind_fluid, kind_fixed], ff, ff(5:, :), v, pr, rs, acc, dr)
+   call check(norm2(acc(:, 2) - n*[0.1_rp, -0.2_rp]) < 1.0e-15_rp, 'wall: force per true mass')
+   call check_close(dr(2), 3.0_rp/n, 1.0e-15_rp, 'wall: rate of its own density')
+
+   ! still water across the core's top: the pair loop's estimate of -grad(n p)/rho_s
+   ! plus the stones' share p grad n / rho_s is -grad p / rho = g: no acceleration
+   xp = [0.5_rp, 0.49_rp]
+   f = porous_point(por, xp)
+   block
+      real(rp) :: rw, pw, dpdy, np_a, np_b, fs(n_por), ft(n_por), gradnp(ndim), a(ndim, 1), rsv(1), pv(1)
+      rw = 1000.0_rp
+      pw = rw*g*(0.7_rp - xp(2))                         ! hydrostatic below a surface at 0.7 m
+      dpdy = -rw*g
+      fs = porous_point(por, xp - [0.0_rp, hfd])
+      ft = porous_point(por, xp + [0.0_rp, hfd])
+      np_a = fs(1)*(pw - dpdy*hfd)
+      np_b = ft(1)*(pw + dpdy*hfd)
+      gradnp = [0.0_rp, (np_b - np_a)/(2.0_rp*hfd)]
+      rsv = f(1)*rw
+      pv = pw
+      a(:, 1) = -gradnp/rsv(1) + [0.0_rp, -g]
+      call porous_accel(1, [kind_fluid], reshape(f, [n_por, 1]), reshape(f(5:), [ndim, 1]), &
+                        reshape([0.0_rp, 0.0_rp], [2, 1]), pv, rsv, a, dr(1:1))
+      call check(norm2(a(:, 1)) < 1.0e-6_rp*g, 'hydrostatic across the interface: no acceleration')
+   end block
+
+   call test_summary('test_porous')
+
+contains
+
+   pure function unit(c) result(e)
+      integer, intent(in) :: c
+      real(rp) :: e(ndim)
+      e = 0.0_rp
+      e(c) = 1.0_rp
+   end function unit
+
+   subroutine region(r, x0, x1, y0, y1, nr, d50)
+      use porous, only: porous_region_t
+      type(porous_region_t), intent(out) :: r
+      real(rp), intent(in) :: x0, x1, y0, y1, nr, d50
+      r%v = reshape([x0, y0, x1, y0, x1, y1, x0, y1], [2, 4])
+      r%n = nr
+      r%d50 = d50
+      r%alpha = 1000.0_rp
+      r%beta = 1.1_rp
+      r%gamma = 0.34_rp
+      r%nu = 1.0e-6_rp
+      r%width = 0.04_rp
+      r%bb = [x0 - 0.02_rp, x1 + 0.02_rp, y0 - 0.02_rp, y1 + 0.02_rp]
+   end subroutine region
+end program test_porous
