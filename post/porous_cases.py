@@ -124,14 +124,15 @@ COLUMN_L = 0.1                # layer thickness (m)
 COLUMN_W = 0.1                # channel width (m)
 
 
-def column_case(d50: float, out_dir: str = "OUT", dp: float = 0.005) -> str:
+def column_case(d50: float, out_dir: str = "OUT", dp: float = 0.005, h_over_dp: float = 2.0) -> str:
     """A channel COLUMN_W wide: water 0.3 m deep above a layer of stones COLUMN_L thick,
-    nothing below the layer; the water drains through and leaves the domain."""
+    nothing below the layer; the water drains through and leaves the domain. h = 2 dp
+    by default, as in the tanks."""
     return f"""\
 &run case_name = 'column', t_end = 1.0, dt_out = 0.05, out_dir = '{out_dir}', max_lost_fraction = 1.0 /
 &domain xmin = -0.03, xmax = 0.13, ymin = -0.05, ymax = 0.5 /
 &fluid coef = 10.0 /
-&numerics dp = {dp}, integrator = 'symplectic' /
+&numerics dp = {dp}, h_over_dp = {h_over_dp}, integrator = 'symplectic' /
 &porous porosity = {N}, d50 = {d50}, xmin = -0.015, xmax = 0.115, ymin = 0.0, ymax = {COLUMN_L} /
 &box role = 'fluid', xmin = 0.0, xmax = {COLUMN_W}, ymin = 0.0, ymax = 0.4 /
 &box role = 'solid', xmin = -0.015, xmax = 0.0, ymin = 0.0, ymax = 0.45 /
@@ -171,6 +172,8 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--bin", default="build/mbsph")
     ap.add_argument("--out", default="OUT/porous")
+    ap.add_argument("--column-dp", type=float, default=0.005, help="spacing of the column case [m]")
+    ap.add_argument("--column-h-over-dp", type=float, default=2.0, help="h/dp of the column case")
     a = ap.parse_args()
     binary = str(Path(a.bin).resolve())
     root = Path(a.out)
@@ -209,16 +212,21 @@ def main() -> int:
                   f"{1000 * (li - lo):+.1f} mm ({(li - lo) / TANK_DP:+.2f} dp); pressures within "
                   f"{100 * dp_max:.2f} % of rho g H |")
     d50 = 0.01
-    out = _run(binary, column_case(d50), root / "column")
+    cdp, chd = a.column_dp, a.column_h_over_dp
+    out = _run(binary, column_case(d50, dp=cdp, h_over_dp=chd), root / "column")
     for snap in [read_snapshot(p) for p in list_snapshots(out)][6::6]:
         f = snap.kind == FLUID
         x, v = snap.position[f], snap.velocity[f]
         above = x[:, 1] > COLUMN_L + 0.02
-        head = (x[:, 1] > COLUMN_L).sum() * 0.005 ** 2 / COLUMN_W
+        head = (x[:, 1] > COLUMN_L).sum() * cdp ** 2 / COLUMN_W
         u = -v[above, 1].mean()
-        law = column_law(head, d50, 2.0 * 0.005 * math.sqrt(2.0))
-        print(f"| column, D = {d50} m, t = {snap.time:.2f} s | Darcy velocity {u:.4f} m/s under {head:.3f} m | "
-              f"Forchheimer law, quasi-steady: {law:.4f} m/s | {100 * (u / law - 1):+.1f} % |")
+        law = column_law(head, d50, 2.0 * chd * cdp)
+        m = (x[:, 1] > 0.2 * COLUMN_L) & (x[:, 1] < 0.8 * COLUMN_L)
+        per_cm = m.sum() / (0.6 * COLUMN_L / 0.01)
+        nominal = COLUMN_W * 0.01 * N / cdp ** 2
+        print(f"| column, D = {d50} m, dp = {cdp} m, h = {chd:.3g} dp, t = {snap.time:.2f} s ({per_cm:.1f} "
+              f"particles per cm of the layer, {nominal:.1f} nominal) | Darcy velocity {u:.4f} m/s under "
+              f"{head:.3f} m | Forchheimer law, quasi-steady: {law:.4f} m/s | {100 * (u / law - 1):+.1f} % |")
     return 0
 
 
