@@ -194,13 +194,16 @@ def main() -> int:
         out = _run(binary, stones_tank_case(stones), root / f"tank_{stones}")
         snap = read_snapshot(list_snapshots(out)[-1])
         ys = hydrostatic.sample_heights(snap, 0.0, H, n=10)
-        speed = np.hypot(*snap.velocity[snap.kind == FLUID].T).mean() / math.sqrt(G * H)
+        fl = snap.kind == FLUID
+        pore_speed = np.hypot(*snap.velocity[fl].T)
+        speed = pore_speed.mean() / math.sqrt(G * H)
+        darcy = (snap.datasets["porosity"][fl] * pore_speed).mean() / math.sqrt(G * H)
         if stones == "full":
             p = hydrostatic.profile(snap, 0.5 * WIDTH, ys)
             fit = hydrostatic.bed_pressure(ys, p, 0.0)
             dev = np.nanmax(np.abs(p - 1000.0 * G * (H - ys))) / (1000.0 * G * H)
             print(f"| still tank filled with stones, t = {snap.time:.1f} s | bed pressure {fit.p_bed:.0f} Pa, "
-                  f"mean speed {speed:.1e} sqrt(gH) | rho g H = {1000 * G * H:.0f} Pa | "
+                  f"mean speed {speed:.1e} sqrt(gH) (Darcy {darcy:.1e}) | rho g H = {1000 * G * H:.0f} Pa | "
                   f"{100 * (fit.p_bed / (1000 * G * H) - 1):+.2f} %, profile within {100 * dev:.2f} % |")
         else:
             lo, li = surface(snap, 0.1, 0.3), surface(snap, 0.7, 0.9)
@@ -208,7 +211,7 @@ def main() -> int:
             p_in = hydrostatic.profile(snap, 0.8, ys)
             dp_max = np.nanmax(np.abs(p_in - p_out)) / (1000.0 * G * H)
             print(f"| still tank half filled with stones, t = {snap.time:.1f} s | level inside {li:.4f} m, "
-                  f"outside {lo:.4f} m; mean speed {speed:.1e} sqrt(gH) | one level, one pressure at one depth | "
+                  f"outside {lo:.4f} m; mean speed {speed:.1e} sqrt(gH) (Darcy {darcy:.1e}) | one level, one pressure at one depth | "
                   f"{1000 * (li - lo):+.1f} mm ({(li - lo) / TANK_DP:+.2f} dp); pressures within "
                   f"{100 * dp_max:.2f} % of rho g H |")
     d50 = 0.01
@@ -224,9 +227,20 @@ def main() -> int:
         m = (x[:, 1] > 0.2 * COLUMN_L) & (x[:, 1] < 0.8 * COLUMN_L)
         per_cm = m.sum() / (0.6 * COLUMN_L / 0.01)
         nominal = COLUMN_W * 0.01 * N / cdp ** 2
+        # the head loss inside the layer, away from its edges, at the pore velocity there
+        kl, kq, _ = coefficients(N, d50)
+        band = (x[:, 0] > 0.1 * COLUMN_W) & (x[:, 0] < 0.9 * COLUMN_W)
+        lo_b = band & (x[:, 1] > 0.2 * COLUMN_L) & (x[:, 1] < 0.3 * COLUMN_L)
+        hi_b = band & (x[:, 1] > 0.7 * COLUMN_L) & (x[:, 1] < 0.8 * COLUMN_L)
+        p = snap.pressure[f]
+        grad = (p[hi_b].mean() - p[lo_b].mean()) / (0.5 * COLUMN_L)
+        vin = -v[band & (x[:, 1] > 0.2 * COLUMN_L) & (x[:, 1] < 0.8 * COLUMN_L), 1].mean()
+        grad_law = 1000.0 * (kl * vin + kq * vin * vin - G)
         print(f"| column, D = {d50} m, dp = {cdp} m, h = {chd:.3g} dp, t = {snap.time:.2f} s ({per_cm:.1f} "
               f"particles per cm of the layer, {nominal:.1f} nominal) | Darcy velocity {u:.4f} m/s under "
-              f"{head:.3f} m | Forchheimer law, quasi-steady: {law:.4f} m/s | {100 * (u / law - 1):+.1f} % |")
+              f"{head:.3f} m; in the layer dp/dy {grad:.0f} Pa/m at V = {vin:.3f} m/s | Forchheimer law, quasi-steady: "
+              f"{law:.4f} m/s; rho (kl V + kq V^2 - g) = {grad_law:.0f} Pa/m | {100 * (u / law - 1):+.1f} %; "
+              f"{100 * (grad / grad_law - 1):+.1f} % |")
     return 0
 
 

@@ -43,15 +43,13 @@ module fluid_forces
       real(rp), allocatable :: pp(:)       !< n p [Pa]
       real(rp), allocatable :: mp(:)       !< mass (of a wall or body particle: n m) [kg]
       real(rp), allocatable :: rp(:)       !< superficial density (of a wall or body particle: n rho) [kg/m3]
-      real(rp), allocatable :: npor(:)     !< porosity n [-]
-      real(rp), allocatable :: gn(:, :)    !< sum_j V_j (n_i + n_j) grad W: grad n as the pressure term sees it [1/m]
       real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]
       type(nbr_t) :: seg(4)                !< pair lists of the columns in the sweep (forces_sweep)
    end type forces_work_t
 
    abstract interface
       subroutine pairs_iface(n, g, nb, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, &
-                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, npor, acc, drho, gn, mumax)
+                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
          import :: rp, n_rep, grid_t, nbr_t, ndim
          implicit none
          integer, intent(in) :: n
@@ -60,8 +58,8 @@ module fluid_forces
          real(rp), intent(in) :: x(ndim, n), v(ndim, n), rho(n), irho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
          real(rp), intent(in) :: nrm(ndim, n)
          integer, intent(in) :: kind(n), surf(n)
-         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep), npor(:)
-         real(rp), intent(inout) :: acc(ndim, n), drho(n), gn(:, :)
+         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
+         real(rp), intent(inout) :: acc(ndim, n), drho(n)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_iface
    end interface
@@ -116,7 +114,7 @@ contains
       character(len=200) :: emsg
       if (allocated(w%acc)) then
          if (size(w%drho) >= nmax) return
-         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%pp, w%mp, w%rp, w%npor, w%gn)
+         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%pp, w%mp, w%rp)
       end if
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax), stat=ist, errmsg=emsg)
@@ -147,8 +145,7 @@ contains
       end if
       ! allow(multiple-allocations-with-stat): either refused is the same stop
       allocate (w%por(n_por, merge(nmax, 1, prm%porous)), w%pp(merge(nmax, 1, prm%porous)), &
-                w%mp(merge(nmax, 1, prm%porous)), w%rp(merge(nmax, 1, prm%porous)), w%npor(merge(nmax, 1, prm%porous)), &
-                w%gn(ndim, merge(nmax, 1, prm%porous)), stat=ist, errmsg=emsg)
+                w%mp(merge(nmax, 1, prm%porous)), w%rp(merge(nmax, 1, prm%porous)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'the porous arrays in forces_ensure')
    end subroutine forces_ensure
 
@@ -174,9 +171,7 @@ contains
             if (p%kind(i) == kind_fluid) w%irho(i) = p%rho(i)/w%por(1, i)
          end do
          call eos_update(prm, n, w%irho, p%p, w%cs)
-         w%npor(1:n) = w%por(1, 1:n)
-         w%pp(1:n) = w%npor(1:n)*p%p(1:n)
-         w%gn(:, 1:n) = 0.0_rp
+         w%pp(1:n) = w%por(1, 1:n)*p%p(1:n)
          w%mp(1:n) = p%mass(1:n)
          w%rp(1:n) = p%rho(1:n)
          do i = 1, n
@@ -358,11 +353,11 @@ contains
       if (prm%porous) then
          call pairs(p%n, g, nb, p%x, p%v, w%rp, w%irho, w%pp, w%mp, p%kind, w%cs, w%rhod, w%lm, w%tau, &
                     p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                    prm%kgc_cont, rep, w%npor, w%acc, w%drho, w%gn, w%mumax)
+                    prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
       else
          call pairs(p%n, g, nb, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
                     p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                    prm%kgc_cont, rep, w%npor, w%acc, w%drho, w%gn, w%mumax)
+                    prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
       end if
    end subroutine pair_rows
 

@@ -14,12 +14,15 @@ module io_snapshot
    use errors, only: fatal, alloc_check
    use body_dynamics, only: body_t
    use rigid, only: rigid_rotation, rigid_rotate
+   use porous, only: porous_t, porous_point, n_por
    implicit none
    private
    public :: snap_index_t, snapshot_write, snapshot_index_rebuild
 
-   !> What the XDMF index of a run lists: the time and particle count of each snapshot.
+   !> What the XDMF index of a run lists: the time and particle count of each
+   !> snapshot, and whether they hold the porosity (a run with porous regions).
    type :: snap_index_t
+      logical :: porosity = .false.
       integer :: nlist = 0
       real(rp), allocatable :: list_t(:)
       integer, allocatable :: list_n(:)
@@ -28,7 +31,7 @@ module io_snapshot
 contains
 
    !> Snapshot number k at time t.
-   subroutine snapshot_write(ix, out_dir, k, p, prm, t, dt, istep, case_text, bodies)
+   subroutine snapshot_write(ix, out_dir, k, p, prm, t, dt, istep, case_text, bodies, por)
       type(snap_index_t), intent(inout) :: ix
       character(len=*), intent(in) :: out_dir
       integer, intent(in) :: k, istep
@@ -37,7 +40,10 @@ contains
       real(rp), intent(in) :: t, dt
       character(len=*), intent(in) :: case_text
       type(body_t), intent(in) :: bodies(:)
+      type(porous_t), intent(in) :: por
       integer(hid_t) :: f
+      real(rp), allocatable :: pn(:)
+      real(rp) :: fp(n_por)
       integer, allocatable :: ord(:), conn(:)
       real(rp), pointer :: r(:, :)
       integer, pointer :: iv(:)
@@ -64,6 +70,18 @@ contains
             call h5_write_part(f, trim(fields(m)%snap), r(:, ord), off, tot(1))
          end if
       end do
+      ! the porosity where each particle is (doc/porous.md), for ParaView
+      ix%porosity = por%on
+      if (por%on) then
+         allocate (pn(n), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'pn in snapshot_write')
+         do i = 1, n
+            fp = porous_point(por, p%x(:, ord(i)))
+            pn(i) = fp(1)
+         end do
+         call h5_write_part(f, 'porosity', pn, off, tot(1))
+         deallocate (pn)
+      end if
       ! after the order is freed: the snapshot's peak memory is one gathered field
       deallocate (ord)
       allocate (conn(n), stat=ist, errmsg=emsg)
@@ -249,6 +267,7 @@ contains
          call attribute(u, 'kind', 'Scalar', ns, '', 'Int', '4', snap)
          call attribute(u, 'body', 'Scalar', ns, '', 'Int', '4', snap)
          call attribute(u, 'id', 'Scalar', ns, '', 'Int', '4', snap)
+         if (ix%porosity) call attribute(u, 'porosity', 'Scalar', ns, '', 'Float', '8', snap)
          write (u, '(a)') '   </Grid>'
       end do
       write (u, '(a)') '  </Grid>'

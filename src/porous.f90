@@ -3,9 +3,10 @@
 !> region of porosity n the particles move with the pore (seepage) velocity
 !> V; the density the continuity equation integrates is the superficial one,
 !> n rho, and the pressure comes from the pore water's density rho. The pair
-!> loop sums the gradient of n p (every particle lends it n p), which
-!> conserves momentum pair by pair; porous_accel adds what the stones give
-!> back where the porosity changes, p grad n / (n rho), so that the pore
+!> loop sums n_i p_i / rho_s,i^2 + n_j p_j / rho_s,j^2 (every particle lends it
+!> n p), which conserves momentum pair by pair; porous_accel adds what the
+!> stones give back where the porosity changes, p grad n / (n rho): the two
+!> are the forces of the Lagrangian of water in fixed pores, and the pore
 !> water feels -grad p / rho; the stones resist by the Forchheimer law of Van
 !> Gent (1995) in the Darcy velocity u = n V, and their added mass makes the
 !> water heavier to accelerate by 1 + c_A.
@@ -129,14 +130,12 @@ contains
 
    !> The acceleration of the pore water of the fluid particles among 1..n
    !> from acc, which holds the pair sums (of grad (n p)) and gravity: plus
-   !> what the stones give back, p grad n / rho_s (grad n as the pair loop's
-   !> pressure term sees it, gn: so that a constant pressure pushes nothing),
-   !> minus the resistance, all
+   !> what the stones give back, p grad n / rho_s, minus the resistance, all
    !> over 1 + c_A; the rates of wall and body particles among the pores back
    !> to their own mass and density. Outside the regions nothing changes.
-   subroutine porous_accel(n, kind, f, gn, v, p, rho, acc, drho)
+   subroutine porous_accel(n, kind, f, v, p, rho, acc, drho)
       integer, intent(in) :: n, kind(:)
-      real(rp), intent(in) :: f(:, :), gn(:, :), v(:, :), p(:), rho(:)
+      real(rp), intent(in) :: f(:, :), v(:, :), p(:), rho(:)
       real(rp), intent(inout) :: acc(:, :), drho(:)
       integer :: i
       do i = 1, n
@@ -149,7 +148,7 @@ contains
             acc(:, i) = f(1, i)*acc(:, i)
             cycle
          end if
-         acc(:, i) = (acc(:, i) + p(i)/rho(i)*gn(:, i) - (f(2, i) + f(3, i)*norm2(v(:, i)))*v(:, i))/ &
+         acc(:, i) = (acc(:, i) + p(i)/rho(i)*f(5:, i) - (f(2, i) + f(3, i)*norm2(v(:, i)))*v(:, i))/ &
                      (1.0_rp + f(4, i))
       end do
    end subroutine porous_accel

@@ -125,6 +125,7 @@ contains
       ! text files are rank 0's
       if (comm_rank() == 0) call energy_open(r%ef, r%out, c%run%restart, r%st%istep)
       if (c%run%restart) then
+         r%snaps%porosity = r%por%on
          call snapshot_index_rebuild(r%snaps, r%out, r%st%isnap)
       else
          if (comm_rank() == 0) call armour_csv_write(r%out, c)

@@ -302,7 +302,7 @@ contains
                     ' fluid particles (left the domain: '//int_str(nd)//', density outside ['// &
                     real_str(r%prm%rho_min)//', '//real_str(r%prm%rho_max)//'] kg/m3: '//int_str(nr)//')')
       if (r%st%lost_domain + r%st%lost_density > r%rc%max_lost_fraction*r%st%n_fluid0) then
-         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies, r%por)
          call fatal('lost '//int_str(r%st%lost_domain + r%st%lost_density)//' of '//int_str(r%st%n_fluid0)// &
                     ' fluid particles, more than max_lost_fraction = '//real_str(r%rc%max_lost_fraction)// &
                     ' (&run); last state written to '//snap_name(r%out, r%st%isnap))
@@ -337,7 +337,7 @@ contains
       if (bad > 0) who = -real(comm_rank(), rp)
       call comm_max(who)
       if (who(1) > -huge(1.0_rp)) then
-         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies, r%por)
          if (nint(-who(1)) /= comm_rank()) then
             call comm_barrier()        ! never passed: the reporting rank aborts
          end if
@@ -346,7 +346,7 @@ contains
                     snap_name(r%out, r%st%isnap))
       end if
       if (r%st%dt < dt_floor) then
-         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies, r%por)
          call fatal('the time step fell to '//real_str(r%st%dt)//' s (below 1e-4 of the acoustic step) at step '// &
                     int_str(r%st%istep)//', t = '//real_str(r%st%t)//' s: the flow has become unstable'// &
                     ' (try a smaller cfl or more viscosity); last state written to '//snap_name(r%out, r%st%isnap))
@@ -359,7 +359,7 @@ contains
    subroutine refuse_fixed_step(r, dt_limit)
       type(run_t), intent(inout) :: r
       real(rp), intent(in) :: dt_limit
-      call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%prm%dt_fixed, r%st%istep, r%case_text, r%bodies)
+      call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%prm%dt_fixed, r%st%istep, r%case_text, r%bodies, r%por)
       call fatal('&numerics dt_fixed = '//real_str(r%prm%dt_fixed)//' s is above the stable step '// &
                  real_str(dt_limit)//' s of the state at step '//int_str(r%st%istep)//', t = '//real_str(r%st%t)// &
                  ' s (force, acoustic-viscous and contact limits at cfl = '//real_str(r%prm%cfl)//'): the run would go'// &
@@ -387,7 +387,7 @@ contains
          else
             call eos_update(r%prm, r%p%n, r%p%rho, r%p%p, r%w%cs)
          end if
-         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies)
+         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies, r%por)
          r%st%isnap = r%st%isnap + 1
          r%st%t_next_snap = (floor(r%st%t/r%rc%dt_out + 1.0e-9_rp) + 1)*r%rc%dt_out
       end if

@@ -107,7 +107,7 @@ program test_porous
    pr = 0.0_rp
    dr = 0.0_rp
    rs = 400.0_rp
-   call porous_accel(2, [kind_fluid, kind_fluid], ff, ff(5:, :), v, pr, rs, acc, dr)
+   call porous_accel(2, [kind_fluid, kind_fluid], ff, v, pr, rs, acc, dr)
    call check(abs(acc(2, 1)) < 1.0e-12_rp*g, 'terminal velocity: no acceleration')
    ! slower: accelerated by what the resistance leaves of gravity, over 1 + c_A
    eps = (g - f(2)*0.5_rp*vt - f(3)*(0.5_rp*vt)**2)/(1.0_rp + f(4))
@@ -119,7 +119,7 @@ program test_porous
    ! mass n m and density n rho: back to its own mass and density
    acc(:, 2) = [0.1_rp, -0.2_rp]
    dr(2) = 3.0_rp
-   call porous_accel(2, [kind_fluid, kind_fixed], ff, ff(5:, :), v, pr, rs, acc, dr)
+   call porous_accel(2, [kind_fluid, kind_fixed], ff, v, pr, rs, acc, dr)
    call check(norm2(acc(:, 2) - n*[0.1_rp, -0.2_rp]) < 1.0e-15_rp, 'wall: force per true mass')
    call check_close(dr(2), 3.0_rp/n, 1.0e-15_rp, 'wall: rate of its own density')
 
@@ -140,8 +140,8 @@ program test_porous
       rsv = f(1)*rw
       pv = pw
       a(:, 1) = -gradnp/rsv(1) + [0.0_rp, -g]
-      call porous_accel(1, [kind_fluid], reshape(f, [n_por, 1]), reshape(f(5:), [ndim, 1]), &
-                        reshape([0.0_rp, 0.0_rp], [2, 1]), pv, rsv, a, dr(1:1))
+      call porous_accel(1, [kind_fluid], reshape(f, [n_por, 1]), reshape([0.0_rp, 0.0_rp], [2, 1]), pv, rsv, a, &
+                      dr(1:1))
       call check(norm2(a(:, 1)) < 1.0e-6_rp*g, 'hydrostatic across the interface: no acceleration')
    end block
 
