@@ -1,15 +1,15 @@
 !> Prescribed motion of moving boundaries (dynamic boundary particles whose
 !> positions and velocities are a function of time): oscillating walls and
-!> the wavemaker paddle. walls_init turns the geometry objects of the input
-!> into the motions the step needs, so that the step never sees the input.
+!> the wavemaker paddle. The scene builder turns the geometry objects of the
+!> input into the motions (scene_walls), walls_init gathers them with the
+!> paddle's law, so that this module and the step never see the input.
 module bc_motion
    use kinds, only: rp
    use constants, only: pi, kind_moving
-   use input_geometry, only: geom_object
    use particles, only: particles_t
    use wave_paddle, only: paddle_t, paddle_motion, paddle_place
    use options, only: wall_fixed, wall_oscillate, wall_wavemaker
-   use errors, only: fatal, alloc_check
+   use errors, only: fatal
    use input_check, only: int_str
    implicit none
    private
@@ -35,24 +35,14 @@ module bc_motion
 
 contains
 
-   !> The walls' motions from the geometry objects of the case and the
-   !> paddle paddle_init prepared; moving: whether any particle moves.
-   subroutine walls_init(objs, paddle, moving, walls)
-      type(geom_object), intent(in) :: objs(:)
+   !> The walls' motions (one per geometry object, from scene_walls) and the
+   !> paddle's law (scene_paddle); moving: whether any particle moves.
+   subroutine walls_init(motions, paddle, moving, walls)
+      type(wall_motion_t), intent(in) :: motions(:)
       type(paddle_t), intent(in) :: paddle
       logical, intent(in) :: moving
       type(walls_t), intent(out) :: walls
-      integer :: k, ist
-      character(len=200) :: emsg
-      allocate (walls%obj(size(objs)), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'walls%obj in walls_init')
-      do k = 1, size(objs)
-         walls%obj(k)%motion = objs(k)%motion_id
-         walls%obj(k)%amplitude = objs(k)%amplitude
-         walls%obj(k)%period = objs(k)%period
-         walls%obj(k)%hinge = [objs(k)%box(2), objs(k)%box(3)]
-         walls%obj(k)%hinge_depth = objs(k)%hinge_depth
-      end do
+      walls%obj = motions
       walls%paddle = paddle
       walls%moving = moving
    end subroutine walls_init

@@ -13,7 +13,7 @@ module run_setup
    use params, only: params_t, visc_artificial, diff_none, kgc_gradient, kgc_shepard, integ_verlet, &
                      bnd_repulsive
    use scene, only: scene_build, scene_bodies, scene_no_fluid, scene_estimate, scene_params, scene_gauges, &
-                    scene_damping, scene_contact, scene_run, scene_porous
+                    scene_damping, scene_contact, scene_run, scene_porous, scene_walls
    use sys_limits, only: sys_memory_left
    use body_dynamics, only: body_t, bodies_place, bodies_prescribe
    use contact, only: contact_init, contact_memory_set
@@ -31,7 +31,8 @@ module run_setup
    use timers, only: timer_start, timer_stop, t_setup
    use comm, only: comm_size, comm_rank, comm_barrier, comm_max, comm_node_size
    use errors, only: fatal, input_error, alloc_check
-   use wave_paddle, only: paddle_t, paddle_init
+   use wave_paddle, only: paddle_t
+   use scene_flume, only: scene_paddle, armour_csv_header
    use probe_gauges, only: gauges_count
    use io_armour, only: armour_csv_write
    use solver, only: run_t
@@ -56,7 +57,7 @@ contains
       call timer_start(t_setup)
       ! every check that can still fail comes before the output folder is
       ! touched: with overwrite = .true. a case refused here keeps the old run
-      call paddle_init(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, paddle, r%wave_report)
+      call scene_paddle(c%file, c%wavemaker, c%fluid%gravity, c%run%t_end, paddle, r%wave_report)
       call check_size(c)
       call check_ranks(c)
       call check_same_case(c)
@@ -100,7 +101,7 @@ contains
       r%n_global = r%p%n
       r%n_kind = [particles_count_kind(r%p, kind_fluid), particles_count_kind(r%p, kind_fixed), &
                 particles_count_kind(r%p, kind_moving), particles_count_kind(r%p, kind_floating)]
-      call walls_init(c%objs, paddle, r%n_kind(3) > 0, r%walls)
+      call walls_init(scene_walls(c), paddle, r%n_kind(3) > 0, r%walls)
       call scene_gauges(c, r%gt)
       r%zone = scene_damping(c)
       r%por = scene_porous(c)
@@ -128,7 +129,8 @@ contains
          r%snaps%porosity = r%por%on
          call snapshot_index_rebuild(r%snaps, r%out, r%st%isnap)
       else
-         if (comm_rank() == 0) call armour_csv_write(r%out, c)
+         if (comm_rank() == 0 .and. c%armour%on) call armour_csv_write(r%out, &
+            armour_csv_header(c%armour, c%layer, c%fluid%rho0), c%layer%first, c%layer%pose(:, 1:c%layer%n_units))
       end if
       call timer_stop(t_setup)
    end subroutine setup_run

@@ -19,11 +19,12 @@ module scene
    use eos, only: eos_density_at_depth
    use geom, only: point_in_polygon, nearest_edge_normal, distance_to_polygon, polygon_area
    use porous, only: porous_t, porous_point, n_por
+   use bc_motion, only: wall_motion_t
    use errors, only: fatal, alloc_check
    implicit none
    private
    public :: scene_build, scene_bodies, scene_no_fluid, scene_estimate, scene_params, scene_gauges, scene_damping, &
-             scene_contact, scene_run, scene_porous
+             scene_contact, scene_run, scene_porous, scene_walls
 
    !> What a scene without fluid particles lacks, for the messages.
    character(len=*), parameter :: scene_no_fluid = "no fluid particles: no &box or &polygon with role = 'fluid' "// &
@@ -382,6 +383,22 @@ contains
          if (por%r(r)%n < 1.0_rp .and. point_in_polygon(pt, por%r(r)%v)) in_pores = .true.
       end do
    end function in_pores
+
+   !> The motion of each geometry object of the case (bc_motion): fixed, an
+   !> oscillation, or the paddle's law with the bottom of its face as hinge.
+   function scene_walls(c) result(m)
+      type(case_cfg), intent(in) :: c
+      type(wall_motion_t), allocatable :: m(:)
+      integer :: k, ist
+      character(len=200) :: emsg
+      allocate (m(size(c%objs)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'm in scene_walls')
+      do k = 1, size(c%objs)
+         associate (o => c%objs(k))
+            m(k) = wall_motion_t(o%motion_id, o%amplitude, o%period, [o%box(2), o%box(3)], o%hinge_depth)
+         end associate
+      end do
+   end function scene_walls
 
    !> The porous regions of the case (module porous).
    function scene_porous(c) result(por)

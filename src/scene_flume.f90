@@ -10,12 +10,16 @@ module scene_flume
    use input_wave, only: wavemaker_cfg
    use input_breakwater, only: breakwater_cfg, armour_cfg
    use input_check, only: int_str, real_str
-   use errors, only: input_error, alloc_check
+   use errors, only: input_error, alloc_check, fatal
+   use wave_paddle, only: paddle_t
+   use wave_theory, only: wave_number, piston_transfer, flap_transfer, piston_second_order
+   use wave_spectrum, only: jonswap_paddle_signal, signal_hm0
+   use wave_signal, only: signal_read
    use options, only: role_solid, role_fluid, wall_wavemaker, motion_fixed, motion_floating, shape_box, &
-                      placement_irregular
+                      placement_irregular, wave_regular, wave_irregular, wave_file, paddle_piston, paddle_flap
    implicit none
    private
-   public :: armour_layer_t, paddle_object, breakwater_objects, armour_units
+   public :: armour_layer_t, paddle_object, breakwater_objects, armour_units, scene_paddle, armour_csv_header
 
    !> What the armour generator achieved; the solver writes it to armour.csv.
    type :: armour_layer_t
@@ -382,4 +386,92 @@ contains
       state = int(s - 1_i8)
       u = real(s - 1_i8, rp)/2147483646.0_rp
    end function uniform
+
+   !> The paddle's law of motion from the &wavemaker group (nothing without one);
+   !> report what it makes in lines.
+   !> A signal that exceeds the stroke stops here, before any particle is made.
+   subroutine scene_paddle(file, c, g, t_end, pad, lines)
+      character(len=*), intent(in) :: file
+      type(wavemaker_cfg), intent(in) :: c
+      real(rp), intent(in) :: g, t_end
+      type(paddle_t), intent(out) :: pad
+      character(len=:), allocatable, intent(out) :: lines
+      real(rp) :: k, kd, dur, dt, nwaves, xmax, hm0
+      real(rp), allocatable :: ts(:), xs(:), eta(:)
+      integer :: i
+      lines = ''
+      if (.not. c%on) return
+      pad%on = .true.
+      pad%flap = c%paddle_id == paddle_flap
+      pad%wave = c%wave_id
+      pad%t_start = c%t_start
+      associate (wm => c, omega => pad%omega, amp1 => pad%amp1, amp2 => pad%amp2, t_ramp => pad%t_ramp, &
+                 sig => pad%sig)
+         select case (wm%wave_id)
+         case (wave_regular)
+            omega = 2.0_rp*pi/wm%period
+            k = wave_number(omega, wm%depth, g)
+            kd = k*wm%depth
+            if (wm%paddle_id == paddle_piston) then
+               amp1 = 0.5_rp*wm%height/piston_transfer(kd)
+            else
+               amp1 = 0.5_rp*wm%height/flap_transfer(kd)
+            end if
+            if (wm%second_order) amp2 = piston_second_order(wm%height, kd, wm%depth)
+            t_ramp = wm%ramp_periods*wm%period
+            lines = '  wavemaker: '//trim(wm%paddle)//', regular H = '//real_str(wm%height)//' m, T = '// &
+                    real_str(wm%period)//' s, depth '//real_str(wm%depth)//' m: L = '//real_str(2.0_rp*pi/k)// &
+                    ' m, kd = '//real_str(kd)//', stroke '//real_str(2.0_rp*amp1)//' m'
+            if (wm%second_order) lines = lines//' + second order '//real_str(amp2)//' m'
+         case (wave_irregular)
+            dur = wm%duration
+            if (dur <= 0.0_rp) dur = max(t_end - wm%t_start, 20.0_rp*wm%tp)
+            dt = min(wm%tp/200.0_rp, 0.01_rp)
+            call jonswap_paddle_signal(wm%hs, wm%tp, wm%gamma, wm%depth, g, wm%paddle, wm%seed, dur, dt, ts, xs, eta, &
+                                       nwaves, wm%f_lo, wm%f_hi)
+            sig%t = ts
+            sig%x = xs
+            t_ramp = wm%ramp_periods*wm%tp
+            hm0 = signal_hm0(eta, ts(2) - ts(1))
+            lines = '  wavemaker: '//trim(wm%paddle)//', irregular JONSWAP Hs = '//real_str(wm%hs)//' m, Tp = '// &
+                    real_str(wm%tp)//' s, gamma = '//real_str(wm%gamma)//', seed '//int_str(wm%seed)// &
+                    ': signal of '//real_str(ts(size(ts)) - ts(1))//' s, about '//real_str(nwaves)// &
+                    ' waves, Hm0 of the target elevation '//real_str(hm0)//' m'
+         case (wave_file)
+            call signal_read(trim(wm%signal_file), 'wavemaker', sig, file, 'signal_file')
+            t_ramp = 0.0_rp
+            lines = '  wavemaker: '//trim(wm%paddle)//', signal from '//trim(wm%signal_file)//' ('// &
+                    int_str(size(sig%t))//' samples, '//real_str(sig%t(1))//' to '//real_str(sig%t(size(sig%t)))//' s)'
+         case default
+            call fatal('scene_paddle: unknown wave '//int_str(wm%wave_id))
+         end select
+         if (wm%ramp_time > 0.0_rp) t_ramp = wm%ramp_time
+         if (wm%wave_id /= wave_regular) then
+            xmax = 0.0_rp
+            do i = 1, size(sig%x)
+               xmax = max(xmax, abs(sig%x(i)))
+            end do
+            if (2.0_rp*xmax > wm%max_stroke) then
+               call fatal(trim(file)//': &wavemaker: the paddle signal moves +-'//real_str(xmax)// &
+                          ' m, beyond max_stroke/2 = '//real_str(0.5_rp*wm%max_stroke)// &
+                          ' m: lower hs (or the signal), or raise max_stroke', 2)
+            end if
+         end if
+         if (t_ramp > 0.0_rp) lines = lines//', ramp '//real_str(t_ramp)//' s'
+         if (wm%t_start > 0.0_rp) lines = lines//', starting at t = '//real_str(wm%t_start)//' s'
+      end associate
+   end subroutine scene_paddle
+   !> The parameters of the armour layer for the '#' line of OUT/armour.csv.
+   function armour_csv_header(a, layer, rho_water) result(line)
+      type(armour_cfg), intent(in) :: a
+      type(armour_layer_t), intent(in) :: layer
+      real(rp), intent(in) :: rho_water
+      character(len=:), allocatable :: line
+      character(len=512) :: buf
+      write (buf, '("dn=",f0.6,",density=",f0.6,",rho_water=",f0.6,",placement=",a,",porosity_target=",f0.6, &
+            &",porosity=",f0.6,",threshold=",f0.6,",slope_angle_deg=",f0.6,",seed=",i0)') a%dn, &
+         a%density, rho_water, trim(a%placement), a%porosity, layer%porosity, a%threshold, layer%alpha*180.0_rp/pi, &
+         a%seed
+      line = trim(buf)
+   end function armour_csv_header
 end module scene_flume

@@ -6,19 +6,14 @@
 !> at the still-water level moves by X. bc_motion places the particles.
 module wave_paddle
    use kinds, only: rp
-   use constants, only: pi
-   use input_wave, only: wavemaker_cfg
-   use input_check, only: real_str, int_str
-   use wave_theory, only: wave_number, piston_transfer, flap_transfer, piston_second_order, ramp, ramp_rate
-   use wave_spectrum, only: jonswap_paddle_signal, signal_hm0
-   use wave_signal, only: signal_t, signal_eval, signal_read
-   use errors, only: fatal
-   use options, only: wave_regular, wave_irregular, wave_file, paddle_piston, paddle_flap
+   use wave_theory, only: ramp, ramp_rate
+   use wave_signal, only: signal_t, signal_eval
+   use options, only: wave_regular
    implicit none
    private
-   public :: paddle_t, paddle_init, paddle_motion, paddle_place
+   public :: paddle_t, paddle_motion, paddle_place
 
-   !> The paddle's law of motion, prepared once by paddle_init.
+   !> The paddle's law of motion, prepared once by the scene builder (scene_paddle).
    type :: paddle_t
       logical :: on = .false.          !< a &wavemaker group: the paddle moves
       logical :: flap = .false.        !< a flap (turns about its hinge), else a piston
@@ -33,80 +28,6 @@ module wave_paddle
 
 contains
 
-   !> Prepare the motion from the input (nothing without a &wavemaker group);
-   !> report what it makes in lines.
-   !> A signal that exceeds the stroke stops here, before any particle is made.
-   subroutine paddle_init(file, c, g, t_end, pad, lines)
-      character(len=*), intent(in) :: file
-      type(wavemaker_cfg), intent(in) :: c
-      real(rp), intent(in) :: g, t_end
-      type(paddle_t), intent(out) :: pad
-      character(len=:), allocatable, intent(out) :: lines
-      real(rp) :: k, kd, dur, dt, nwaves, xmax, hm0
-      real(rp), allocatable :: ts(:), xs(:), eta(:)
-      integer :: i
-      lines = ''
-      if (.not. c%on) return
-      pad%on = .true.
-      pad%flap = c%paddle_id == paddle_flap
-      pad%wave = c%wave_id
-      pad%t_start = c%t_start
-      associate (wm => c, omega => pad%omega, amp1 => pad%amp1, amp2 => pad%amp2, t_ramp => pad%t_ramp, &
-                 sig => pad%sig)
-         select case (wm%wave_id)
-         case (wave_regular)
-            omega = 2.0_rp*pi/wm%period
-            k = wave_number(omega, wm%depth, g)
-            kd = k*wm%depth
-            if (wm%paddle_id == paddle_piston) then
-               amp1 = 0.5_rp*wm%height/piston_transfer(kd)
-            else
-               amp1 = 0.5_rp*wm%height/flap_transfer(kd)
-            end if
-            if (wm%second_order) amp2 = piston_second_order(wm%height, kd, wm%depth)
-            t_ramp = wm%ramp_periods*wm%period
-            lines = '  wavemaker: '//trim(wm%paddle)//', regular H = '//real_str(wm%height)//' m, T = '// &
-                    real_str(wm%period)//' s, depth '//real_str(wm%depth)//' m: L = '//real_str(2.0_rp*pi/k)// &
-                    ' m, kd = '//real_str(kd)//', stroke '//real_str(2.0_rp*amp1)//' m'
-            if (wm%second_order) lines = lines//' + second order '//real_str(amp2)//' m'
-         case (wave_irregular)
-            dur = wm%duration
-            if (dur <= 0.0_rp) dur = max(t_end - wm%t_start, 20.0_rp*wm%tp)
-            dt = min(wm%tp/200.0_rp, 0.01_rp)
-            call jonswap_paddle_signal(wm%hs, wm%tp, wm%gamma, wm%depth, g, wm%paddle, wm%seed, dur, dt, ts, xs, eta, &
-                                       nwaves, wm%f_lo, wm%f_hi)
-            sig%t = ts
-            sig%x = xs
-            t_ramp = wm%ramp_periods*wm%tp
-            hm0 = signal_hm0(eta, ts(2) - ts(1))
-            lines = '  wavemaker: '//trim(wm%paddle)//', irregular JONSWAP Hs = '//real_str(wm%hs)//' m, Tp = '// &
-                    real_str(wm%tp)//' s, gamma = '//real_str(wm%gamma)//', seed '//int_str(wm%seed)// &
-                    ': signal of '//real_str(ts(size(ts)) - ts(1))//' s, about '//real_str(nwaves)// &
-                    ' waves, Hm0 of the target elevation '//real_str(hm0)//' m'
-         case (wave_file)
-            call signal_read(trim(wm%signal_file), 'wavemaker', sig, file, 'signal_file')
-            t_ramp = 0.0_rp
-            lines = '  wavemaker: '//trim(wm%paddle)//', signal from '//trim(wm%signal_file)//' ('// &
-                    int_str(size(sig%t))//' samples, '//real_str(sig%t(1))//' to '//real_str(sig%t(size(sig%t)))//' s)'
-         case default
-            call fatal('paddle_init: unknown wave '//int_str(wm%wave_id))
-         end select
-         if (wm%ramp_time > 0.0_rp) t_ramp = wm%ramp_time
-         if (wm%wave_id /= wave_regular) then
-            xmax = 0.0_rp
-            do i = 1, size(sig%x)
-               xmax = max(xmax, abs(sig%x(i)))
-            end do
-            if (2.0_rp*xmax > wm%max_stroke) then
-               call fatal(trim(file)//': &wavemaker: the paddle signal moves +-'//real_str(xmax)// &
-                          ' m, beyond max_stroke/2 = '//real_str(0.5_rp*wm%max_stroke)// &
-                          ' m: lower hs (or the signal), or raise max_stroke', 2)
-            end if
-         end if
-         if (t_ramp > 0.0_rp) lines = lines//', ramp '//real_str(t_ramp)//' s'
-         if (wm%t_start > 0.0_rp) lines = lines//', starting at t = '//real_str(wm%t_start)//' s'
-      end associate
-   end subroutine paddle_init
 
    !> Displacement X and velocity U of the paddle face at the still-water
    !> level at time t_run; the signal's clock starts at t_start.
