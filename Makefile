@@ -32,7 +32,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test wave-heights unit unit-debug run dambreak breakwater lint bench bench-mpi bench-effects clean figures paper stability study
+.PHONY: all debug deps test wave-heights unit unit-debug run dambreak breakwater lint bench bench-mpi bench-effects clean figures paper stability study porous
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -163,6 +163,10 @@ stability: deps build/mbsph
 # `make study STUDIES=study/tank_dp.toml` for one, STUDY_FLAGS="--workers 1" to limit
 STUDIES     ?= $(sort $(wildcard study/*.toml))
 STUDY_FLAGS ?= --nice 10
+# the porous-region cases of doc/porous.md and their table (about 40 s on one core)
+porous: deps build/mbsph
+	$(PYTHON) -m post.porous_cases --bin build/mbsph --out OUT/porous
+
 study: deps build/mbsph
 	$(PYTHON) -m post.study $(STUDIES) --doc doc/accuracy-cost.md --img doc/img --cost cpu_s $(STUDY_FLAGS)
 

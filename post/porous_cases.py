@@ -12,7 +12,7 @@ tests/test_porous.py run the same texts), with what each is measured against.
 
     .venv/bin/python -m post.porous_cases [--bin build/mbsph] [--out OUT/porous]
 
-runs them all (half a minute on one core) and prints the table of doc/porous.md.
+runs them all (about 40 s on one core) and prints the table of doc/porous.md.
 """
 from __future__ import annotations
 
@@ -90,10 +90,12 @@ T_SETTLE = 20.0 * math.sqrt(H / G)
 def stones_tank_case(stones: str, out_dir: str = "OUT", h_over_dp: float = 2.0) -> str:
     """Still water H deep in a tank WIDTH wide, walls 3 dp thick, the stones (n = 0.4,
     D = 0.02 m) reaching into the walls and the floor: over the whole tank (``full``) or
-    its right half (``half``). h = 2 dp: the pores at n = 0.4 hold one particle per
+    its right half (``half``); ``open``: a region of porosity 1 over the whole tank, the
+    open-water reference run through the same code. h = 2 dp: the pores at n = 0.4 hold one particle per
     dp^2/n, and h = 2 dp keeps the kernel 1.26 of their spacing wide."""
     w = 3 * TANK_DP
-    x0 = {"full": -w, "half": 0.5 * WIDTH}[stones]
+    x0 = {"full": -w, "half": 0.5 * WIDTH, "open": -w}[stones]
+    n = 1.0 if stones == "open" else N
     t_end = math.ceil(T_SETTLE * 10.0) / 10.0
     return f"""\
 &run case_name = 'stones_tank_{stones}', t_end = {t_end}, dt_out = 0.5, out_dir = '{out_dir}' /
@@ -105,7 +107,7 @@ def stones_tank_case(stones: str, out_dir: str = "OUT", h_over_dp: float = 2.0) 
 &box role = 'solid', xmin = {-w}, xmax = {WIDTH + w}, ymin = {-w}, ymax = 0.0 /
 &box role = 'solid', xmin = {-w}, xmax = 0.0, ymin = 0.0, ymax = {1.4 * H} /
 &box role = 'solid', xmin = {WIDTH}, xmax = {WIDTH + w}, ymin = 0.0, ymax = {1.4 * H} /
-&porous porosity = {N}, d50 = 0.02, xmin = {x0}, xmax = {WIDTH + w}, ymin = {-w}, ymax = {1.4 * H} /
+&porous porosity = {n}, d50 = 0.02, xmin = {x0}, xmax = {WIDTH + w}, ymin = {-w}, ymax = {1.4 * H} /
 """
 
 
@@ -190,7 +192,7 @@ def main() -> int:
         print(f"| drainage, D = {d50} m ({name}) | V(t) from rest; V at t >= 0.4 s: {late:.5f} m/s | "
               f"the momentum equation; terminal {vt:.5f} m/s | largest {100 * np.max(np.abs(v / exact - 1)):.3f} %; "
               f"terminal {100 * (late / vt - 1):+.3f} % |")
-    for stones in ("full", "half"):
+    for stones in ("open", "full", "half"):
         out = _run(binary, stones_tank_case(stones), root / f"tank_{stones}")
         snap = read_snapshot(list_snapshots(out)[-1])
         ys = hydrostatic.sample_heights(snap, 0.0, H, n=10)
@@ -198,11 +200,12 @@ def main() -> int:
         pore_speed = np.hypot(*snap.velocity[fl].T)
         speed = pore_speed.mean() / math.sqrt(G * H)
         darcy = (snap.datasets["porosity"][fl] * pore_speed).mean() / math.sqrt(G * H)
-        if stones == "full":
+        if stones in ("open", "full"):
             p = hydrostatic.profile(snap, 0.5 * WIDTH, ys)
             fit = hydrostatic.bed_pressure(ys, p, 0.0)
             dev = np.nanmax(np.abs(p - 1000.0 * G * (H - ys))) / (1000.0 * G * H)
-            print(f"| still tank filled with stones, t = {snap.time:.1f} s | bed pressure {fit.p_bed:.0f} Pa, "
+            what = "open water (porosity 1)" if stones == "open" else "filled with stones"
+            print(f"| still tank, {what}, t = {snap.time:.1f} s | bed pressure {fit.p_bed:.0f} Pa, "
                   f"mean speed {speed:.1e} sqrt(gH) (Darcy {darcy:.1e}) | rho g H = {1000 * G * H:.0f} Pa | "
                   f"{100 * (fit.p_bed / (1000 * G * H) - 1):+.2f} %, profile within {100 * dev:.2f} % |")
         else:
