@@ -13,6 +13,12 @@ tests/test_porous.py run the same texts), with what each is measured against.
     .venv/bin/python -m post.porous_cases [--bin build/mbsph] [--out OUT/porous]
 
 runs them all (about 40 s on one core) and prints the table of doc/porous.md.
+
+    .venv/bin/python -m post.porous_cases --liu OUT/porous_dambreak --liu-data DIR
+
+compares the run of input/porous/dambreak_liu1999.nml with the free surfaces measured by
+Liu et al. (1999), digitised as DIR/data_<10 t>.dat (x, y in m; doc/porous.md says where
+to find them), and prints that table instead.
 """
 from __future__ import annotations
 
@@ -161,6 +167,38 @@ def column_law(head: float, d50: float, width: float) -> float:
     return brentq(excess, 1e-6, 10.0)
 
 
+def liu_dambreak(out: Path, data: Path, dp: float = 0.004) -> list[str]:
+    """Rows of the table of the porous dam break against the measured free surfaces: at
+    each time, the RMS of the elevation difference at the measured points, upstream of
+    the block, in it and downstream. The simulated surface at a point is the highest
+    fluid particle within 1.5 dp of it plus half its spacing (dp/sqrt(n) in the stones)."""
+    snaps = {round(read_snapshot(p).time, 2): p for p in list_snapshots(out)}
+    rows = []
+    for t10 in range(2, 23, 2):
+        t = t10 / 10
+        key = min(snaps, key=lambda k: abs(k - t))
+        snap = read_snapshot(snaps[key])
+        f = snap.kind == FLUID
+        x, n = snap.position[f], snap.datasets["porosity"][f]
+        d = np.loadtxt(data / f"data_{t10}.dat")
+        eta = np.full(len(d), np.nan)
+        for k, (xd, _) in enumerate(d):
+            m = np.abs(x[:, 0] - xd) < 1.5 * dp
+            if m.any():
+                top = np.argmax(np.where(m, x[:, 1], -1.0))
+                eta[k] = x[top, 1] + 0.5 * dp / math.sqrt(n[top])
+        e = eta - d[:, 1]
+        parts = {"all": np.ones(len(d), bool), "upstream": d[:, 0] <= 0.30,
+                 "in the block": (d[:, 0] > 0.30) & (d[:, 0] < 0.59), "downstream": d[:, 0] >= 0.59}
+        rms = {k: 1000 * math.sqrt(np.nanmean(e[m] ** 2)) for k, m in parts.items()}
+        # the water the measured profile holds, per metre of width (n = 0.49 in the block)
+        xs = np.linspace(0.0, 0.892, 2000)
+        held = np.trapezoid(np.where((xs > 0.30) & (xs < 0.59), 0.49, 1.0) * np.interp(xs, d[:, 0], d[:, 1]), xs)
+        rows.append(f"| {t:.1f} | {rms['all']:.1f} | {rms['upstream']:.1f} | {rms['in the block']:.1f} | "
+                    f"{rms['downstream']:.1f} | {1000 * np.nanmax(np.abs(e)):.1f} | {1000 * held:.1f} |")
+    return rows
+
+
 def _run(binary: str, text: str, out: Path) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     if (out / "OUT").exists():
@@ -176,7 +214,17 @@ def main() -> int:
     ap.add_argument("--out", default="OUT/porous")
     ap.add_argument("--column-dp", type=float, default=0.005, help="spacing of the column case [m]")
     ap.add_argument("--column-h-over-dp", type=float, default=2.0, help="h/dp of the column case")
+    ap.add_argument("--liu", help="output folder of input/porous/dambreak_liu1999.nml: compare it instead")
+    ap.add_argument("--liu-data", help="folder of the digitised measurements data_<10 t>.dat")
+    ap.add_argument("--liu-dp", type=float, default=0.004, help="the particle spacing of that run [m]")
     a = ap.parse_args()
+    if a.liu:
+        print("| t [s] | RMS, all [mm] | upstream | in the block | downstream | largest [mm] | "
+              "water in the measured profile [L/m] |")
+        print("|---|---|---|---|---|---|---|")
+        for row in liu_dambreak(Path(a.liu), Path(a.liu_data), dp=a.liu_dp):
+            print(row)
+        return 0
     binary = str(Path(a.bin).resolve())
     root = Path(a.out)
     print("| case | measured | against | difference |")
