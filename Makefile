@@ -32,7 +32,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test wave-heights unit unit-debug run dambreak breakwater lint bench bench-mpi bench-effects clean figures paper stability study porous
+.PHONY: all debug deps test wave-heights unit unit-debug run dambreak breakwater breakwater_core lint bench bench-mpi bench-effects clean figures paper stability study porous
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -115,17 +115,19 @@ dambreak: deps build/mbsph
 	$(PYTHON) -m post.plot_field OUT/dambreak --field pressure
 	$(PYTHON) -m post.dambreak OUT/dambreak
 
-# the coarse breakwater with regular and irregular armour placement: a settling run
-# in still water (1 s), continued under waves by a restart; armour figures and the
-# table against the laboratory ranges (doc/breakwater.md); cost measured there.
+# the coarse breakwater with regular and irregular armour placement, each on an
+# impermeable and on a porous core: a settling run in still water (1 s), continued under
+# waves by a restart; armour figures and the table of the four against the laboratory
+# ranges (doc/breakwater.md); cost measured there.
 # BW_T0: start of the window in which the wave height is measured at gauge 3 (Ns);
 # BW_DOC: where the figures (BW_DOC/img) and the table go. A short trial lowers BW_END
 # and BW_T0 and writes elsewhere than doc/: BW_END=3 BW_T0=1.5 BW_DOC=OUT/breakwater_trial.
 BW_END ?= 12.0
 BW_T0  ?= 5
 BW_DOC ?= doc
+BW_CASES := regular irregular regular_porous irregular_porous
 breakwater: deps build/mbsph
-	@for pl in regular irregular; do \
+	@for pl in $(BW_CASES); do \
 	  echo "== settling: $$pl"; \
 	  $(MPIRUN) -np $(RANKS) build/mbsph input/breakwater/$$pl.nml > /dev/null || exit 1; \
 	  sed -e "s/t_end = 1.0/t_end = $(BW_END)/" -e "s/overwrite = .true./restart = .true./" \
@@ -134,7 +136,7 @@ breakwater: deps build/mbsph
 	  $(MPIRUN) -np $(RANKS) build/mbsph OUT/breakwater_$$pl/waves.nml > /dev/null || exit 1; \
 	  $(PYTHON) -m post.armour OUT/breakwater_$$pl --gauge 3 --t-start $(BW_T0) --out $(BW_DOC)/img/breakwater_$$pl || exit 1; \
 	done
-	$(PYTHON) -m post.armour OUT/breakwater_regular OUT/breakwater_irregular --gauge 3 --t-start $(BW_T0) \
+	$(PYTHON) -m post.armour $(foreach c,$(BW_CASES),OUT/breakwater_$(c)) --gauge 3 --t-start $(BW_T0) \
 	  --table $(BW_DOC)/breakwater_table.md --out $(BW_DOC)/img
 
 lint: deps
@@ -164,6 +166,24 @@ stability: deps build/mbsph
 STUDIES     ?= $(sort $(wildcard study/*.toml))
 STUDY_FLAGS ?= --nice 10
 # the porous-region cases of doc/porous.md and their table (about 40 s on one core)
+# the same breakwater (regular placement) on a porous and on an impermeable core at the
+# same numerics (those the pores need), from the settling to BWC_END: the water level in
+# the core, the pressure under the armour, the uplift on the units, side by side
+# (doc/porous.md, doc/img/breakwater_core.png)
+BWC_END ?= 10.0
+breakwater_core: deps build/mbsph
+	@mkdir -p OUT/breakwater_core
+	@for core in porous impermeable; do \
+	  sed -e "s/t_end = 1.0/t_end = $(BWC_END)/" -e "s/dt_out = 0.25/dt_out = 0.1/" \
+	    -e "s#out_dir = 'OUT/breakwater_regular_porous'#out_dir = 'OUT/breakwater_core/$$core'#" \
+	    -e "s/core = 'porous'/core = '$$core'/" input/breakwater/regular_porous.nml > OUT/breakwater_core/$$core.nml; \
+	done
+	$(MPIRUN) -np 1 build/mbsph OUT/breakwater_core/porous.nml > OUT/breakwater_core/porous.log & \
+	$(MPIRUN) -np 1 build/mbsph OUT/breakwater_core/impermeable.nml > OUT/breakwater_core/impermeable.log; \
+	wait
+	$(PYTHON) -m post.breakwater_core OUT/breakwater_core/porous OUT/breakwater_core/impermeable --t-start 3.5 \
+	  --out doc/img/breakwater_core.png --table OUT/breakwater_core/table.md
+
 porous: deps build/mbsph
 	$(PYTHON) -m post.porous_cases --bin build/mbsph --out OUT/porous
 

@@ -39,7 +39,7 @@ __all__ = [
 _SNAP_RE = re.compile(r"^snap_(\d+)\.h5$")
 
 #: Particle kinds stored in ``/kind``.
-FLUID, FIXED_BOUNDARY, MOVING_BOUNDARY, FLOATING_BODY = 1, 2, 3, 4
+FLUID, FIXED_BOUNDARY, MOVING_BOUNDARY, FLOATING_BODY, FILTER = 1, 2, 3, 4, 5
 
 
 @dataclass(frozen=True)

@@ -87,6 +87,35 @@ def drain_case(d50: float, out_dir: str = "OUT", n: float = N) -> str:
 """
 
 
+FILTER_Y = 0.15               # top of the stones and the filter on them (m)
+FILTER_BOX = (0.1, 0.05, 2000.0)   # width, height (m) and density (kg/m3) of the body on the filter
+
+
+def filter_case(wet: bool = True, out_dir: str = "OUT", t_end: float = 2.0) -> str:
+    """A block resting on a permeable filter (``&slope role = 'filter'``) laid on a bed of
+    stones (n = 0.4, D = 0.02 m) FILTER_Y thick, under still water 0.3 m deep in a tank
+    0.4 m wide; the block starts 1 cm above the filter. The stones' outline lies h (half
+    the porosity's transition) below the filter, so that the stones begin at the filter
+    (as &breakwater lays its core). ``wet = False``: the same block and filter without
+    water or stones, the dry reference of its resting height."""
+    w, hgt, rho = FILTER_BOX
+    water = f"""\
+&box role = 'fluid', xmin = 0.0, xmax = 0.4, ymin = 0.0, ymax = 0.3 /
+&porous porosity = 0.4, d50 = 0.02, xmin = -0.04, xmax = 0.44, ymin = -0.04, ymax = {FILTER_Y - 0.02} /
+""" if wet else ""
+    return f"""\
+&run case_name = 'filter', t_end = {t_end}, dt_out = 0.5, energy_interval = 0.05, out_dir = '{out_dir}' /
+&domain xmin = -0.05, xmax = 0.45, ymin = -0.05, ymax = 0.5 /
+&fluid coef = 10.0 /
+&numerics dp = 0.01, h_over_dp = 2.0, integrator = 'symplectic' /
+{water}&box role = 'solid', xmin = -0.04, xmax = 0.44, ymin = -0.04, ymax = 0.0 /
+&box role = 'solid', xmin = -0.04, xmax = 0.0, ymin = 0.0, ymax = 0.45 /
+&box role = 'solid', xmin = 0.4, xmax = 0.44, ymin = 0.0, ymax = 0.45 /
+&slope role = 'filter', x0 = 0.0, y0 = {FILTER_Y}, x1 = 0.4, y1 = {FILTER_Y} /
+&body shape = 'box', x = 0.2, y = {FILTER_Y + 0.5 * hgt + 0.01}, width = {w}, height = {hgt}, density = {rho}, mu = 0.5 /
+"""
+
+
 H = 0.5                       # still-water depth of the tanks (m)
 WIDTH = 1.0                   # tank width (m)
 TANK_DP = H / 25              # 25 particles over the depth, as the open-water tank of tests/test_cases.py

@@ -3,7 +3,7 @@ module constants
    use kinds, only: rp
    implicit none
    private
-   public :: pi, ndim, kind_fluid, kind_fixed, kind_moving, kind_floating, kind_name, &
+   public :: pi, ndim, kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, kind_name, &
              name_len, path_len, msg_len
 
    real(rp), parameter :: pi = 3.14159265358979323846_rp
@@ -14,6 +14,9 @@ module constants
    integer, parameter :: kind_fixed = 2      !< fixed boundary (walls, floor, slopes)
    integer, parameter :: kind_moving = 3     !< boundary with prescribed motion
    integer, parameter :: kind_floating = 4   !< boundary of a free rigid body
+   !> a permeable filter: fixed particles that stop bodies (contact) and are
+   !> massless to the water, which flows through (the underlayer under armour)
+   integer, parameter :: kind_filter = 5
 
    integer, parameter :: name_len = 32
    integer, parameter :: path_len = 512
@@ -30,6 +33,7 @@ contains
       case (kind_fixed); s = 'fixed boundary'
       case (kind_moving); s = 'moving boundary'
       case (kind_floating); s = 'floating body'
+      case (kind_filter); s = 'filter'
       case default; s = 'unknown'
       end select
    end function kind_name

@@ -165,7 +165,7 @@ contains
          ! pressure and the diffusion's density from the density of the pore
          ! water, rho / n (irho holds it until it gets its own values below);
          ! the pair loop sums n p, walls and bodies lending theirs too
-         call porous_field(por, n, p%x, w%por)
+         call porous_field(por, n, p%x, p%kind, w%por)
          do i = 1, n
             w%irho(i) = p%rho(i)
             if (p%kind(i) == kind_fluid) w%irho(i) = p%rho(i)/w%por(1, i)

@@ -15,13 +15,14 @@ module input
    use input_porous, only: porous_cfg, read_porous, write_porous
    use input_breakwater, only: breakwater_cfg, armour_cfg, read_breakwater, write_breakwater, read_armour, &
                                write_armour
-   use scene_flume, only: armour_layer_t, paddle_object, breakwater_objects, armour_units
+   use scene_flume, only: armour_layer_t, paddle_object, breakwater_objects, breakwater_porous, armour_units
    use wave_theory, only: wave_number, piston_transfer, flap_transfer, miche_limit, piston_second_order
    use constants, only: pi
    use body_shapes, only: body_outline
    use geom, only: polygons_overlap
    use errors, only: input_error, fatal, alloc_check
-   use options, only: role_solid, role_fluid, wall_wavemaker, wave_regular, wave_file, paddle_piston, gauge_pressure, &
+   use options, only: role_fluid, role_filter, model_dynamic, wall_wavemaker, wave_regular, wave_file, paddle_piston, &
+                      gauge_pressure, &
                       integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, visc_laminar_sps
    implicit none
    private
@@ -88,6 +89,7 @@ contains
          others: do k = 1, size(c%objs)
             if (k == i) cycle others
             if (c%objs(k)%role_id == role_fluid .and. k < i) cycle others
+            if (c%objs(k)%role_id == role_filter) cycle others   ! the water flows through a filter
             if (polygons_overlap(c%objs(i)%v, c%objs(k)%v, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
                gi = obj_name(c%objs(i))
                gk = obj_name(c%objs(k))
@@ -99,7 +101,24 @@ contains
       call check_bodies(c, tol)
       call check_waves(c)
       call check_porous(c, tol)
+      call check_filters(c)
    end subroutine read_case
+
+   !> A filter is massless to the water: it stops bodies through their
+   !> contact, so a model that acts through the water's terms cannot use it.
+   subroutine check_filters(c)
+      type(case_cfg), intent(in) :: c
+      integer :: k
+      do k = 1, size(c%objs)
+         if (c%objs(k)%role_id /= role_filter) cycle
+         if (c%numerics%boundary_id == bnd_repulsive) call input_error(c%file, 'numerics', 'boundary', &
+            "'repulsive' cannot have a filter (&"//obj_name(c%objs(k))//" role = 'filter'): use 'dynamic'")
+         if (c%contact%model_id == model_dynamic) call input_error(c%file, 'contact', 'model', &
+            "'dynamic' cannot stop bodies on a filter (&"//obj_name(c%objs(k))// &
+            " role = 'filter'), which carries no water: use 'noncohesive_spring', 'noncohesive', 'repulsive' or 'hertz'")
+         return
+      end do
+   end subroutine check_filters
 
    !> Porous regions inside the domain, not overlapping each other (sharing
    !> an edge is allowed: a core under its filter layer), and an integrator
@@ -111,6 +130,7 @@ contains
       character(len=:), allocatable :: gi
       do i = 1, size(c%porous)
          gi = 'porous #'//int_str(i)
+         if (c%porous(i)%generated) gi = 'breakwater'   ! its core or underlayer
          associate (v => c%porous(i)%v)
             if (minval(v(1, :)) < c%domain%xmin - tol .or. maxval(v(1, :)) > c%domain%xmax + tol .or. &
                 minval(v(2, :)) < c%domain%ymin - tol .or. maxval(v(2, :)) > c%domain%ymax + tol) then
@@ -138,11 +158,13 @@ contains
       ! repulsive force are written for open water only
       if (c%numerics%kgc_id == kgc_shepard .or. c%numerics%kgc_id == kgc_gradient) call input_error(c%file, &
          'numerics', 'kernel_correction', "'"//trim(c%numerics%kernel_correction)// &
-         "' does not work with &porous regions yet: use 'none' (doc/porous.md)")
+         "' does not work with porous regions (&porous, &breakwater core = 'porous') yet: use 'none' "// &
+         '(doc/porous.md)')
       if (c%numerics%viscosity_id == visc_laminar_sps) call input_error(c%file, 'numerics', 'viscosity', &
-         "'laminar_sps' does not work with &porous regions yet: use 'artificial' (doc/porous.md)")
+         "'laminar_sps' does not work with porous regions (&porous, &breakwater core = 'porous') yet: "// &
+         "use 'artificial' (doc/porous.md)")
       if (c%numerics%boundary_id == bnd_repulsive) call input_error(c%file, 'numerics', 'boundary', &
-         "'repulsive' does not work with &porous regions yet: use 'dynamic'")
+         "'repulsive' does not work with porous regions (&porous, &breakwater core = 'porous') yet: use 'dynamic'")
    end subroutine check_porous
 
    !> The breakwater, its armour and the paddle become objects and bodies
@@ -151,6 +173,7 @@ contains
       type(case_cfg), intent(inout) :: c
       type(geom_object), allocatable :: more(:)
       type(body_cfg), allocatable :: units(:)
+      type(porous_cfg), allocatable :: stones(:)
       real(rp) :: h
       integer :: ist
       character(len=200) :: emsg
@@ -161,6 +184,9 @@ contains
          call breakwater_objects(c%file, c%breakwater, c%wavemaker%on, c%domain%xmin, c%domain%xmax, c%domain%ymin, &
                                  c%numerics%dp, h, more)
          call append_objects(c%objs, more)
+         call breakwater_porous(c%file, c%breakwater, merge(c%armour%dn, 0.0_rp, c%armour%on), c%numerics%dp, h, &
+                                2.0_rp*h, stones)
+         c%porous = [c%porous, stones]
       end if
       if (c%wavemaker%on) then
          if (allocated(more)) deallocate (more)
@@ -286,9 +312,9 @@ contains
             call input_error(c%file, 'body #'//trim(bi), '', 'the body reaches outside the &domain')
          end if
          walls: do k = 1, size(c%objs)
-            if (c%objs(k)%role_id /= role_solid) cycle walls
+            if (c%objs(k)%role_id == role_fluid) cycle walls
             if (polygons_overlap(vi, c%objs(k)%v, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
-               call input_error(c%file, 'body #'//trim(bi), '', 'the body overlaps the solid &'// &
+               call input_error(c%file, 'body #'//trim(bi), '', 'the body overlaps the '//trim(c%objs(k)%role)//' &'// &
                                 obj_name(c%objs(k))//' (bodies may touch walls, not cut into them)')
             end if
          end do walls

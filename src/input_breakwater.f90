@@ -6,7 +6,7 @@ module input_breakwater
    use constants, only: name_len, msg_len
    use input_check, only: open_case, read_failed, check_real, check_int, group_count
    use errors, only: input_error
-   use options, only: option_index, placement_names, placement_regular
+   use options, only: option_index, placement_names, placement_regular, core_names, core_impermeable, core_porous
    implicit none
    private
    public :: breakwater_cfg, armour_cfg, read_breakwater, write_breakwater, read_armour, write_armour
@@ -24,6 +24,13 @@ module input_breakwater
       real(rp) :: crest_width = 0.3_rp      !< [m]
       real(rp) :: rear_cot = 1.5_rp         !< rear slope, cot [-]
       integer :: layers = 0                 !< wall thickness in particle rows (0: enough for 2h)
+      character(len=name_len) :: core = 'impermeable'   !< 'impermeable' | 'porous'
+      integer :: core_id = core_impermeable  !< core as its value in options (core_*)
+      real(rp) :: core_porosity = 0.4_rp    !< porous core: porosity [-]
+      real(rp) :: core_d50 = 0.0_rp         !< porous core: stone size [m] (0: 0.4 underlayer_d50)
+      real(rp) :: underlayer_porosity = 0.4_rp   !< porous core: porosity of the underlayer [-]
+      real(rp) :: underlayer_d50 = 0.0_rp   !< porous core: underlayer stone size [m] (0: 0.4 &armour dn)
+      real(rp) :: underlayer_thickness = 0.0_rp  !< porous core: normal to the slope [m] (0: 2 underlayer_d50)
    end type breakwater_cfg
 
    type :: armour_cfg
@@ -44,8 +51,10 @@ module input_breakwater
 
    real(rp) :: x_start, depth, toe_depth, flat_length, foreshore_angle, slope_cot, rc, crest_width, rear_cot
    integer :: layers
+   character(len=name_len) :: core
+   real(rp) :: core_porosity, core_d50, underlayer_porosity, underlayer_d50, underlayer_thickness
    namelist /breakwater/ x_start, depth, toe_depth, flat_length, foreshore_angle, slope_cot, rc, crest_width, &
-      rear_cot, layers
+      rear_cot, layers, core, core_porosity, core_d50, underlayer_porosity, underlayer_d50, underlayer_thickness
    character(len=name_len) :: placement
    real(rp) :: dn, density, porosity, mu, max_tilt, gap_spread, threshold
    integer :: seed, n_units
@@ -59,6 +68,9 @@ contains
       x_start = c%x_start; depth = c%depth; toe_depth = c%toe_depth; flat_length = c%flat_length
       foreshore_angle = c%foreshore_angle; slope_cot = c%slope_cot; rc = c%rc; crest_width = c%crest_width
       rear_cot = c%rear_cot; layers = c%layers
+      core = c%core; core_porosity = c%core_porosity; core_d50 = c%core_d50
+      underlayer_porosity = c%underlayer_porosity; underlayer_d50 = c%underlayer_d50
+      underlayer_thickness = c%underlayer_thickness
    end subroutine bw_to_vars
 
    subroutine read_breakwater(file, c)
@@ -79,6 +91,9 @@ contains
       c%x_start = x_start; c%depth = depth; c%toe_depth = toe_depth; c%flat_length = flat_length
       c%foreshore_angle = foreshore_angle; c%slope_cot = slope_cot; c%rc = rc; c%crest_width = crest_width
       c%rear_cot = rear_cot; c%layers = layers
+      c%core = core; c%core_porosity = core_porosity; c%core_d50 = core_d50
+      c%underlayer_porosity = underlayer_porosity; c%underlayer_d50 = underlayer_d50
+      c%underlayer_thickness = underlayer_thickness
       call check_real(file, g, 'depth', c%depth, 0.0_rp, 100.0_rp, lo_open=.true.)
       call check_real(file, g, 'toe_depth', c%toe_depth, 0.0_rp, c%depth, lo_open=.true.)
       call check_real(file, g, 'flat_length', c%flat_length, 0.0_rp, 1.0e4_rp)
@@ -90,7 +105,29 @@ contains
       call check_real(file, g, 'crest_width', c%crest_width, 0.0_rp, 1.0e4_rp, lo_open=.true.)
       call check_real(file, g, 'rear_cot', c%rear_cot, 0.5_rp, 10.0_rp)
       call check_int(file, g, 'layers', c%layers, 0, 100)
+      c%core_id = option_index(file, g, 'core', c%core, core_names)
+      c%core = core_names(c%core_id)
+      if (c%core_id == core_porous) call check_porous_core(file, c)
    end subroutine read_breakwater
+
+   !> The stones of a porous core: porosities in (0, 1), sizes and thickness
+   !> positive or 0 for the default; the underlayer's default size needs the
+   !> armour's dn, so without &armour it must be given.
+   subroutine check_porous_core(file, c)
+      character(len=*), intent(in) :: file
+      type(breakwater_cfg), intent(inout) :: c
+      character(len=*), parameter :: g = 'breakwater'
+      call check_real(file, g, 'core_porosity', c%core_porosity, 0.0_rp, 1.0_rp, lo_open=.true., hi_open=.true.)
+      call check_real(file, g, 'underlayer_porosity', c%underlayer_porosity, 0.0_rp, 1.0_rp, lo_open=.true., &
+                      hi_open=.true.)
+      call check_real(file, g, 'core_d50', c%core_d50, 0.0_rp, 10.0_rp)
+      call check_real(file, g, 'underlayer_d50', c%underlayer_d50, 0.0_rp, 10.0_rp)
+      call check_real(file, g, 'underlayer_thickness', c%underlayer_thickness, 0.0_rp, 100.0_rp)
+      if (c%underlayer_d50 > 0.0_rp) return
+      if (group_count(file, 'armour') == 0) call input_error(file, g, 'underlayer_d50', &
+         "a porous core (core = 'porous') without &armour needs the underlayer's stone size: "// &
+         '(0, 10] m (its default is 0.4 of the armour unit dn)')
+   end subroutine check_porous_core
 
    subroutine write_breakwater(u, c)
       integer, intent(in) :: u

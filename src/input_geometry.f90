@@ -1,5 +1,6 @@
 !> Geometry groups, each repeatable: &box, &polygon, &slope. Every object
-!> becomes a polygon with a role (solid wall or fluid) and a motion.
+!> becomes a polygon with a role (solid wall, fluid, or for a slope a
+!> permeable filter) and a motion.
 module input_geometry
    use kinds, only: rp
    use constants, only: name_len, msg_len
@@ -7,7 +8,8 @@ module input_geometry
                           group_count, int_str, real_str
    use errors, only: input_error, alloc_check, fatal
    use geom, only: polygon_area, polygon_self_intersects
-   use options, only: option_index, role_names, role_solid, role_fluid, wall_motion_names, wall_fixed, wall_oscillate
+   use options, only: option_index, role_names, role_solid, role_fluid, role_filter, wall_motion_names, wall_fixed, &
+                      wall_oscillate
    implicit none
    private
    public :: geom_object, read_geometry, write_geometry, max_vert
@@ -17,7 +19,7 @@ module input_geometry
    type :: geom_object
       character(len=name_len) :: group = ''         !< 'box' | 'polygon' | 'slope'
       integer :: index = 0                          !< 1 for the first group of its name, ...
-      character(len=name_len) :: role = 'solid'     !< 'solid' | 'fluid'
+      character(len=name_len) :: role = 'solid'     !< 'solid' | 'fluid' (&box, &polygon) | 'filter' (&slope)
       character(len=name_len) :: motion = 'fixed'   !< 'fixed' | 'oscillate' | 'wavemaker'
       integer :: role_id = role_solid               !< role as its value in options (role_*)
       integer :: motion_id = wall_fixed             !< motion as its value in options (wall_*)
@@ -44,7 +46,7 @@ module input_geometry
    ! &slope
    real(rp) :: x0, y0, x1, y1
    integer :: layers
-   namelist /slope/ x0, y0, x1, y1, layers
+   namelist /slope/ role, x0, y0, x1, y1, layers
 
 contains
 
@@ -120,14 +122,13 @@ contains
          n = n + 1
          g = 'slope #'//int_str(k)
          call check_int(file, g, 'layers', layers, 0, 100)
+         call slope_role(file, g, objs(n))
          if (layers == 0) layers = max(1, ceiling(2.0_rp*h/dp - 1.0e-9_rp))
          if (.not. (x1 > x0)) call input_error(file, g, 'x1', 'must be greater than x0 = '//real_str(x0)// &
                                                ' (the solid lies below the line from (x0,y0) to (x1,y1))')
          if (hypot(x1 - x0, y1 - y0) < dp) call input_error(file, g, 'x1, y1', 'the slope is shorter than dp')
          objs(n)%group = 'slope'
          objs(n)%index = k
-         objs(n)%role = 'solid'
-         objs(n)%role_id = role_solid
          objs(n)%line = [x0, y0, x1, y1]
          objs(n)%layers = layers
          objs(n)%nv = 4
@@ -149,7 +150,7 @@ contains
          o%motion = motion
          o%amplitude = amplitude
          o%period = period
-         o%role_id = option_index(file, gname, 'role', o%role, role_names)
+         o%role_id = option_index(file, gname, 'role', o%role, role_names(role_solid:role_fluid))
          o%role = role_names(o%role_id)
          ! 'wavemaker' is the flume builder's, not a case file's
          o%motion_id = option_index(file, gname, 'motion', o%motion, wall_motion_names(wall_fixed:wall_oscillate))
@@ -160,6 +161,20 @@ contains
          end if
       end subroutine set_common
    end subroutine read_geometry
+
+   !> The role of a &slope from the namelist's role and layers: a solid, or a
+   !> filter of one row (what the bodies touch is the outer row; the water needs none).
+   subroutine slope_role(file, g, o)
+      character(len=*), intent(in) :: file, g
+      type(geom_object), intent(inout) :: o
+      o%role_id = role_filter
+      if (option_index(file, g, 'role', role, [role_names(role_solid), role_names(role_filter)]) == 1) o%role_id = role_solid
+      o%role = role_names(o%role_id)
+      if (o%role_id /= role_filter) return
+      if (layers > 1) call input_error(file, g, 'layers', "a filter (role = 'filter') is one row: [0, 1] (got "// &
+                                       int_str(layers)//')')
+      layers = 1
+   end subroutine slope_role
 
    subroutine write_geometry(u, objs)
       integer, intent(in) :: u

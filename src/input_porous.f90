@@ -25,6 +25,7 @@ module input_porous
       real(rp) :: box(4) = 0.0_rp         !< xmin, xmax, ymin, ymax when the region is a box
       integer :: nv = 0                   !< vertices of the outline
       logical :: is_box = .true.          !< given as a box (else as a polygon)
+      logical :: generated = .false.      !< made by &breakwater (its core), not written back
       real(rp), allocatable :: v(:, :)    !< outline (2, nv), counter-clockwise
    end type porous_cfg
 
@@ -112,6 +113,7 @@ contains
       type(porous_cfg), intent(in) :: regions(:)
       integer :: k
       do k = 1, size(regions)
+         if (regions(k)%generated) cycle
          call defaults()
          porosity = regions(k)%porosity; d50 = regions(k)%d50
          alpha = regions(k)%alpha; beta = regions(k)%beta; gamma = regions(k)%gamma; nu = regions(k)%nu

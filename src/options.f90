@@ -18,13 +18,14 @@ module options
    public :: integ_names, integ_symplectic, integ_predictor_corrector, integ_verlet
    public :: bnd_names, bnd_dynamic, bnd_repulsive
    public :: contact_names, model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
-   public :: role_names, role_solid, role_fluid
+   public :: role_names, role_solid, role_fluid, role_filter
    public :: wall_motion_names, wall_fixed, wall_oscillate, wall_wavemaker
    public :: shape_names, shape_circle, shape_box, shape_wedge, shape_polygon
    public :: body_motion_names, motion_floating, motion_fixed, motion_prescribed
    public :: paddle_names, paddle_piston, paddle_flap
    public :: wave_names, wave_regular, wave_irregular, wave_file
    public :: placement_names, placement_regular, placement_irregular
+   public :: core_names, core_impermeable, core_porous
    public :: gauge_names, gauge_elevation, gauge_pressure
 
    !> &numerics kernel
@@ -52,9 +53,10 @@ module options
    integer, parameter :: model_dynamic = 1, model_repulsive = 2, model_noncohesive = 3, model_spring = 4, &
                          model_hertz = 5
 
-   !> &box, &polygon, &slope role
-   character(len=name_len), parameter :: role_names(*) = [character(len=name_len) :: 'solid', 'fluid']
-   integer, parameter :: role_solid = 1, role_fluid = 2
+   !> &box, &polygon role (solid or fluid); &slope role (solid or filter: a
+   !> row that stops bodies and lets the water through)
+   character(len=name_len), parameter :: role_names(*) = [character(len=name_len) :: 'solid', 'fluid', 'filter']
+   integer, parameter :: role_solid = 1, role_fluid = 2, role_filter = 3
    !> &box, &polygon motion; a case file may name the first two, the flume
    !> builder gives the paddle 'wavemaker'
    character(len=name_len), parameter :: wall_motion_names(*) = [character(len=name_len) :: 'fixed', 'oscillate', &
@@ -77,6 +79,10 @@ module options
    !> &armour placement
    character(len=name_len), parameter :: placement_names(*) = [character(len=name_len) :: 'regular', 'irregular']
    integer, parameter :: placement_regular = 1, placement_irregular = 2
+   !> &breakwater core: one solid, or stones the water flows through (a porous
+   !> core under a porous underlayer, the armour on a filter)
+   character(len=name_len), parameter :: core_names(*) = [character(len=name_len) :: 'impermeable', 'porous']
+   integer, parameter :: core_impermeable = 1, core_porous = 2
    !> &gauge kind
    character(len=name_len), parameter :: gauge_names(*) = [character(len=name_len) :: 'elevation', 'pressure']
    integer, parameter :: gauge_elevation = 1, gauge_pressure = 2

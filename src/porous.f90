@@ -12,7 +12,7 @@
 !> water heavier to accelerate by 1 + c_A.
 module porous
    use kinds, only: rp
-   use constants, only: kind_fluid, ndim
+   use constants, only: kind_fluid, kind_floating, ndim
    use geom, only: point_in_polygon
    implicit none
    private
@@ -116,15 +116,23 @@ contains
 
    !> The porous properties of particles 1..n, where they are: the fluid's
    !> pores, and the porosity every particle lends its pressure with (walls and
-   !> bodies inside a region too, so that n p is smooth across them).
-   subroutine porous_field(por, n, x, f)
+   !> fixed or moving bodies inside a region too, so that n p is smooth across
+   !> them). A floating body is never among the stones (it rests on them, on a
+   !> filter): its particles are open water to the pores' terms, so that the
+   !> water in the pores under it presses on it with its own pressure.
+   subroutine porous_field(por, n, x, kind, f)
       type(porous_t), intent(in) :: por
-      integer, intent(in) :: n
+      integer, intent(in) :: n, kind(:)
       real(rp), intent(in) :: x(:, :)
       real(rp), intent(inout) :: f(:, :)
       integer :: i
       do i = 1, n
-         f(:, i) = porous_point(por, x(:, i))
+         if (kind(i) == kind_floating) then
+            f(:, i) = 0.0_rp
+            f(1, i) = 1.0_rp
+         else
+            f(:, i) = porous_point(por, x(:, i))
+         end if
       end do
    end subroutine porous_field
 

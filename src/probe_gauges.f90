@@ -8,6 +8,7 @@ module probe_gauges
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use kinds, only: rp
    use constants, only: kind_fluid, msg_len
+   use porous, only: porous_t, porous_point, n_por
    use io_files, only: csv_rows_until, csv_flush
    use params, only: params_t
    use grid, only: grid_t, grid_column, grid_cell
@@ -110,11 +111,12 @@ contains
    !> over the ranks, gauges_values turns it into the gauges' values, which
    !> so do not depend on the decomposition. The grid must hold the
    !> particles' current order (it is sorted every step).
-   subroutine gauges_sums(gt, prm, g, p, acc)
+   subroutine gauges_sums(gt, prm, g, p, por, acc)
       type(gauges_t), intent(inout) :: gt
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(in) :: p
+      type(porous_t), intent(in) :: por        !< in the pores the pressure comes from rho / n
       real(rp), allocatable, intent(out) :: acc(:)
       integer :: k, nc, off
       integer :: ist
@@ -128,7 +130,7 @@ contains
       acc = 0.0_rp
       do k = 1, gauges_count(gt)
          off = (k - 1)*gt%ny
-         call candidates(gt, gt%x(k), prm, g, p, nc)
+         call candidates(gt, gt%x(k), prm, g, p, por, nc)
          if (gt%kind(k) == gauge_elevation) then
             call add_column(gt, prm, nc, acc(off + 1:off + gt%ny))
          else
@@ -172,15 +174,16 @@ contains
 
    !> This rank's own fluid particles within 2h of the vertical line
    !> through x: their height, horizontal offset, volume and pressure.
-   subroutine candidates(gt, x, prm, g, p, n)
+   subroutine candidates(gt, x, prm, g, p, por, n)
       type(gauges_t), intent(inout) :: gt
       real(rp), intent(in) :: x
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(in) :: p
+      type(porous_t), intent(in) :: por
       integer, intent(out) :: n
       integer :: kx, jx, iy, c, j, cap
-      real(rp) :: dx
+      real(rp) :: dx, rho, f(n_por)
       cap = 0
       if (allocated(gt%cy)) cap = size(gt%cy)
       n = 0
@@ -197,8 +200,15 @@ contains
                n = n + 1
                gt%cy(n) = p%x(2, j)
                gt%cdx(n) = dx
+               ! the volume m / rho of the superficial density: the kernel sum is 1 in
+               ! the pores too; the pressure that of the pore water, rho / n
                gt%cv(n) = p%mass(j)/p%rho(j)
-               gt%cp(n) = prm%b*((p%rho(j)/prm%rho0)**prm%gamma - 1.0_rp)
+               rho = p%rho(j)
+               if (por%on) then
+                  f = porous_point(por, p%x(:, j))
+                  rho = rho/f(1)
+               end if
+               gt%cp(n) = prm%b*((rho/prm%rho0)**prm%gamma - 1.0_rp)
             end do in_cell
          end do
       end do columns

@@ -6,7 +6,7 @@
 !> sees only run_t.
 module run_setup
    use kinds, only: rp
-   use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_name
+   use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, kind_name
    use input, only: case_cfg, write_case
    use input_check, only: int_str, real_str, approx_str
    use particles, only: particles_t, particles_count_kind, particles_permute
@@ -100,7 +100,8 @@ contains
       ! every rank holds the whole set until decompose: count it now
       r%n_global = r%p%n
       r%n_kind = [particles_count_kind(r%p, kind_fluid), particles_count_kind(r%p, kind_fixed), &
-                particles_count_kind(r%p, kind_moving), particles_count_kind(r%p, kind_floating)]
+                particles_count_kind(r%p, kind_moving), particles_count_kind(r%p, kind_floating), &
+                particles_count_kind(r%p, kind_filter)]
       call walls_init(scene_walls(c), paddle, r%n_kind(3) > 0, r%walls)
       call scene_gauges(c, r%gt)
       r%zone = scene_damping(c)
@@ -284,11 +285,13 @@ contains
       type(case_cfg), intent(in) :: c
       character(len=:), allocatable :: fx
       call log_line("MBSPH case '"//trim(c%run%case_name)//"' from "//trim(c%file))
+      fx = ''
+      if (r%n_kind(5) > 0) fx = ', '//kind_name(kind_filter)//' '//int_str(r%n_kind(5))
       call log_line('  particles: '//int_str(r%n_global)//' ('//kind_name(kind_fluid)//' '// &
                     int_str(r%n_kind(1))//', '//kind_name(kind_fixed)//' '// &
                     int_str(r%n_kind(2))//', '//kind_name(kind_moving)//' '// &
                     int_str(r%n_kind(3))//', '//kind_name(kind_floating)//' '// &
-                    int_str(r%n_kind(4))//')')
+                    int_str(r%n_kind(4))//fx//')')
       call log_line('  dp = '//real_str(r%prm%dp)//' m, h = '//real_str(r%prm%h)//' m, c0 = '//real_str(r%prm%c0)// &
                     ' m/s, h_swl = '//real_str(r%prm%h_swl)//' m, rho0 = '//real_str(r%prm%rho0)// &
                     ' kg/m3, first dt about '//real_str(r%prm%cfl*r%prm%h/r%prm%c0)//' s')

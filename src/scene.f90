@@ -2,12 +2,13 @@
 !> layers from the geometry objects; hydrostatic density to start from.
 module scene
    use kinds, only: rp
-   use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating
+   use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter
    use input, only: case_cfg
    use input_body, only: body_cfg
    use body_shapes, only: body_outline, body_mass_properties, body_particles
    use body_dynamics, only: body_t
-   use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, wall_fixed, integ_verlet
+   use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, role_filter, wall_fixed, &
+                      integ_verlet
    use input_geometry, only: geom_object
    use particles, only: particles_t, particles_grow, particles_fit
    use params, only: params_t
@@ -80,6 +81,9 @@ contains
          p%id(i) = i
          p%v(:, i) = 0.0_rp
          p%mass(i) = prm%rho0*dp*dp
+         ! a filter carries no water: massless in every pair term, the water
+         ! passes it (its particles only stop bodies, through the contact)
+         if (p%kind(i) == kind_filter) p%mass(i) = 0.0_rp
          ! still water: hydrostatic density below the surface, rho0 above
          ! (body particles take the density of the water they displace)
          p%rho(i) = eos_density_at_depth(prm, max(prm%y_surface - p%x(2, i), 0.0_rp))
@@ -425,7 +429,7 @@ contains
       end do
    end function scene_porous
 
-   !> Rows of particles parallel to the slope line, below it.
+   !> Rows of particles parallel to the slope line, below it (a filter: one row).
    subroutine add_slope(o, obj, dp, p, earlier)
       type(geom_object), intent(in) :: o, earlier(:)
       integer, intent(in) :: obj
@@ -449,7 +453,7 @@ contains
             k = p%n
             p%x(:, k) = pt
             p%xb(:, k) = pt
-            p%kind(k) = kind_fixed
+            p%kind(k) = merge(kind_filter, kind_fixed, o%role_id == role_filter)
             p%body(k) = obj
             p%nrm(:, k) = nrm
             p%nb(:, k) = nrm

@@ -9,17 +9,19 @@ module scene_flume
    use input_body, only: body_cfg
    use input_wave, only: wavemaker_cfg
    use input_breakwater, only: breakwater_cfg, armour_cfg
+   use input_porous, only: porous_cfg
    use input_check, only: int_str, real_str
    use errors, only: input_error, alloc_check, fatal
    use wave_paddle, only: paddle_t
    use wave_theory, only: wave_number, piston_transfer, flap_transfer, piston_second_order
    use wave_spectrum, only: jonswap_paddle_signal, signal_hm0
    use wave_signal, only: signal_read
-   use options, only: role_solid, role_fluid, wall_wavemaker, motion_fixed, motion_floating, shape_box, &
+   use options, only: role_solid, role_fluid, role_filter, core_porous, wall_wavemaker, motion_fixed, motion_floating, shape_box, &
                       placement_irregular, wave_regular, wave_irregular, wave_file, paddle_piston, paddle_flap
    implicit none
    private
-   public :: armour_layer_t, paddle_object, breakwater_objects, armour_units, scene_paddle, armour_csv_header
+   public :: armour_layer_t, paddle_object, breakwater_objects, breakwater_porous, armour_units, scene_paddle, &
+             armour_csv_header
 
    !> What the armour generator achieved; the solver writes it to armour.csv.
    type :: armour_layer_t
@@ -37,7 +39,7 @@ module scene_flume
    end type row_t
 
    real(rp), parameter :: deg = pi/180.0_rp
-   integer, parameter :: max_parts = 9     !< objects of a breakwater: 6 bed lines, 2 walls, the water
+   integer, parameter :: max_parts = 10    !< objects of a breakwater: 6 bed lines, 2 walls, the water (twice)
 
 contains
 
@@ -86,8 +88,11 @@ contains
    end subroutine breakwater_levels
 
    !> The bed as a chain of slopes (particle rows below each line), an end
-   !> wall, and the still water from the paddle to the front slope. The core
-   !> is impermeable: porous flow through it is not modelled.
+   !> wall, and the still water. An impermeable core is one solid under the
+   !> breakwater's outline and the water ends at the front slope; a porous
+   !> core (breakwater_porous gives its stones) has the bed run on under it
+   !> to the end wall, a filter along its outline for the armour to rest on,
+   !> and the still water fills the flume to the end wall, pores included.
    subroutine breakwater_objects(file, bw, paddle, xmin, xmax, ymin, dp, h, objs)
       character(len=*), intent(in) :: file
       type(breakwater_cfg), intent(in) :: bw
@@ -96,6 +101,7 @@ contains
       type(geom_object), allocatable, intent(out) :: objs(:)
       real(rp) :: x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c, thick, x_swl, xw
       integer :: layers, n
+      logical :: porous
       type(geom_object) :: tmp(max_parts)
       character(len=*), parameter :: g = 'breakwater'
       layers = bw%layers
@@ -112,10 +118,15 @@ contains
       n = 0
       call add_line(xmin, 0.0_rp, x_fs, 0.0_rp)
       if (y_toe > 0.0_rp) call add_line(x_fs, 0.0_rp, x_toe, y_toe)
-      call add_line(x_toe, y_toe, x_cf, y_c)
-      call add_line(x_cf, y_c, x_cb, y_c)
-      call add_line(x_cb, y_c, x_rf, y_toe)
-      if (xw - x_rf > dp) call add_line(x_rf, y_toe, xw, y_toe)
+      porous = bw%core_id == core_porous
+      call add_line(x_toe, y_toe, x_cf, y_c, porous)
+      call add_line(x_cf, y_c, x_cb, y_c, porous)
+      call add_line(x_cb, y_c, x_rf, y_toe, porous)
+      if (porous) then
+         call add_line(x_toe, y_toe, xw, y_toe)
+      else if (xw - x_rf > dp) then
+         call add_line(x_rf, y_toe, xw, y_toe)
+      end if
       ! end wall, so overtopping water stays in the flume
       n = n + 1
       tmp(n)%group = 'box'
@@ -130,7 +141,7 @@ contains
                              bw%x_start - thick, y_c + bw%rc], [2, 4])
          tmp(n)%nv = 4
       end if
-      ! still water up to the front slope
+      ! still water up to the front slope, or through the porous core to the end wall
       x_swl = x_toe + bw%toe_depth*bw%slope_cot
       n = n + 1
       tmp(n)%group = 'polygon'
@@ -143,24 +154,112 @@ contains
          tmp(n)%v = reshape([bw%x_start, 0.0_rp, x_toe, 0.0_rp, x_swl, bw%depth, bw%x_start, bw%depth], [2, 4])
       end if
       tmp(n)%nv = size(tmp(n)%v, 2)
+      if (porous) then
+         ! the water behind the front slope, in the pores and beyond: a second
+         ! object, so that the pore water's lattice is fitted between the bed
+         ! under the breakwater and the still-water level (scene's add_pore_water)
+         n = n + 1
+         tmp(n)%group = 'polygon'
+         tmp(n)%role = 'fluid'
+         tmp(n)%role_id = role_fluid
+         tmp(n)%v = reshape([x_toe, y_toe, xw, y_toe, xw, bw%depth, x_swl, bw%depth], [2, 4])
+         tmp(n)%nv = 4
+      end if
       tmp(1:n)%generated = .true.
       tmp(1:n)%index = 1
       objs = tmp(1:n)
    contains
-      subroutine add_line(xa, ya, xb, yb)
+      !> A slope below the line from a to b; a filter (one row) when filter is set.
+      subroutine add_line(xa, ya, xb, yb, filter)
          real(rp), intent(in) :: xa, ya, xb, yb
-         real(rp) :: t(2), nrm(2)
+         logical, intent(in), optional :: filter
+         real(rp) :: t(2), nrm(2), w
          n = n + 1
          tmp(n)%group = 'slope'
          tmp(n)%line = [xa, ya, xb, yb]
          tmp(n)%layers = layers
+         if (present(filter)) then
+            if (filter) then
+               tmp(n)%layers = 1
+               tmp(n)%role = 'filter'
+               tmp(n)%role_id = role_filter
+            end if
+         end if
+         w = tmp(n)%layers*dp
          t = [xb - xa, yb - ya]/hypot(xb - xa, yb - ya)
          nrm = [-t(2), t(1)]
-         tmp(n)%v = reshape([xa - thick*nrm(1), ya - thick*nrm(2), xb - thick*nrm(1), yb - thick*nrm(2), &
+         tmp(n)%v = reshape([xa - w*nrm(1), ya - w*nrm(2), xb - w*nrm(1), yb - w*nrm(2), &
                              xb, yb, xa, ya], [2, 4])
          tmp(n)%nv = 4
       end subroutine add_line
    end subroutine breakwater_objects
+
+   !> The stones of a porous core (&breakwater core = 'porous'): an underlayer
+   !> of thickness t normal to the front slope, from the toe to the crest, and
+   !> the core behind it under the crest and the rear slope. Their outer
+   !> outlines lie half the porosity's transition (width) inside the
+   !> breakwater's surface, so that the stones begin at the filter the armour
+   !> rests on (the porosity is 1 there and above: the armour layer's voids are
+   !> open water). Both reach a bed thickness (thick) down into the bed, so
+   !> that the porosity is uniform down to the bed. Defaults where the case
+   !> gives 0: the underlayer's stones of 0.4 of the armour's dn, two stones
+   !> thick, the core's 0.4 of the underlayer's (doc/porous.md: the Rock
+   !> Manual's filter rule, a mass ratio of 10 to 15).
+   subroutine breakwater_porous(file, bw, dn, dp, h, width, regions)
+      character(len=*), intent(in) :: file
+      type(breakwater_cfg), intent(in) :: bw
+      real(rp), intent(in) :: dn                 !< armour unit size [m] (0: no &armour)
+      real(rp), intent(in) :: dp, h
+      real(rp), intent(in) :: width              !< the porosity's transition [m]
+      type(porous_cfg), allocatable, intent(out) :: regions(:)
+      real(rp) :: x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c, thick, du, dc, t, sx, yb, df, dr, yc, xf, xi, xr
+      integer :: layers, ist
+      character(len=200) :: emsg
+      character(len=*), parameter :: g = 'breakwater'
+      allocate (regions(0), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'regions in breakwater_porous')
+      if (bw%core_id /= core_porous) return
+      layers = bw%layers
+      if (layers == 0) layers = max(1, ceiling(2.0_rp*h/dp - 1.0e-9_rp))
+      thick = layers*dp
+      call breakwater_levels(bw, x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c)
+      du = bw%underlayer_d50
+      if (du <= 0.0_rp) du = 0.4_rp*dn
+      dc = bw%core_d50
+      if (dc <= 0.0_rp) dc = 0.4_rp*du
+      t = bw%underlayer_thickness
+      if (t <= 0.0_rp) t = 2.0_rp*du
+      if (t <= 0.5_rp*width + dp) call input_error(file, g, 'underlayer_thickness', 'the underlayer ('// &
+         real_str(t)//' m thick) must be thicker than half the transition of the porosity and a spacing: > '// &
+         real_str(0.5_rp*width + dp)//' m (the transition is 2h = '//real_str(width)//' m wide)')
+      ! horizontal distances behind the front slope line: the underlayer's inner
+      ! edge (sx) and the stones' outer outline (df); dr before the rear slope line
+      sx = t*sqrt(1.0_rp + bw%slope_cot**2)
+      df = 0.5_rp*width*sqrt(1.0_rp + bw%slope_cot**2)
+      dr = 0.5_rp*width*sqrt(1.0_rp + bw%rear_cot**2)
+      yc = y_c - 0.5_rp*width
+      xf = x_toe + df + (yc - y_toe)*bw%slope_cot
+      xi = x_toe + sx + (yc - y_toe)*bw%slope_cot
+      xr = x_rf - dr - (yc - y_toe)*bw%rear_cot
+      if (xi > xr - dp) call input_error(file, g, 'underlayer_thickness', 'the underlayer ('// &
+         real_str(t)//' m thick) reaches past the crest: make it thinner or crest_width (now '// &
+         real_str(bw%crest_width)//' m) wider')
+      yb = y_toe - thick
+      deallocate (regions)
+      allocate (regions(2), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'regions in breakwater_porous')
+      regions%generated = .true.
+      regions%is_box = .false.
+      regions%width = width
+      regions(1)%porosity = bw%underlayer_porosity
+      regions(1)%d50 = du
+      regions(1)%v = reshape([x_toe + df, yb, x_toe + sx, yb, xi, yc, xf, yc, x_toe + df, y_toe], [2, 5])
+      regions(2)%porosity = bw%core_porosity
+      regions(2)%d50 = dc
+      regions(2)%v = reshape([x_toe + sx, yb, x_rf - dr, yb, x_rf - dr, y_toe, xr, yc, xi, yc], [2, 5])
+      regions(1)%nv = 5
+      regions(2)%nv = 5
+   end subroutine breakwater_porous
 
    !> A single layer of cubes (squares in 2D) on the front slope, from the
    !> toe up to the crest. Each unit lies on the underlayer; the gaps between

@@ -9,7 +9,7 @@
 module solver
    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use kinds, only: rp, i8, lk
-   use constants, only: kind_fluid, kind_name
+   use constants, only: kind_fluid, kind_filter, kind_name
    use input_check, only: int_str, real_str
    use particles, only: particles_t
    use params, only: params_t, kgc_shepard
@@ -59,7 +59,7 @@ module solver
       logical(lk), allocatable :: drop(:)
       real(rp), allocatable :: scratch1(:), scratch2(:)
       integer :: n_global = 0                   !< particles on all ranks
-      integer :: n_kind(4) = 0                  !< particles of each kind at the start, all ranks
+      integer :: n_kind(kind_filter) = 0        !< particles of each kind (constants' kind_*, the last) at the start, all ranks
       type(walls_t) :: walls                    !< moving walls and the paddle: their laws of time
       type(decomp_t) :: dc                      !< the slabs of the ranks
       type(gauges_t) :: gt                      !< the gauges, their file and scratch
@@ -181,7 +181,7 @@ contains
       type(run_t), intent(inout) :: r
       real(rp), allocatable :: acc(:)
       real(rp) :: val(gauges_count(r%gt))
-      call gauges_sums(r%gt, r%prm, r%g, r%p, acc)
+      call gauges_sums(r%gt, r%prm, r%g, r%p, r%por, acc)
       call comm_sum(acc)
       call gauges_values(r%gt, r%prm, acc, val)
       call gauges_write(r%gt, r%st%t, val)
@@ -380,7 +380,7 @@ contains
          call forces_ensure(r%w, size(r%p%rho), r%prm)
          if (r%prm%porous) then
             ! the pore water's pressure, from rho / n
-            call porous_field(r%por, r%p%n, r%p%x, r%w%por)
+            call porous_field(r%por, r%p%n, r%p%x, r%p%kind, r%w%por)
             r%w%irho(1:r%p%n) = r%p%rho(1:r%p%n)
             where (r%p%kind(1:r%p%n) == kind_fluid) r%w%irho(1:r%p%n) = r%p%rho(1:r%p%n)/r%w%por(1, 1:r%p%n)
             call eos_update(r%prm, r%p%n, r%w%irho, r%p%p, r%w%cs)

@@ -83,6 +83,9 @@ POLYGON_CROSSED = "&polygon role = 'solid', nvert = 4, x = 0.2, 0.4, 0.4, 0.2, y
 # a porous region beside the water column, on the floor; the cases below fill in its values
 POROUS = "&porous {}, xmin = 0.2, xmax = 0.4, ymin = 0.0, ymax = 0.2 /\n"
 
+# a filter line across the floor's right part; the cases below fill in its values
+FILTER = "&slope role = 'filter', x0 = 0.2, y0 = 0.1, x1 = 0.4, y1 = 0.1{} /\n"
+
 # a box body clear of the water and the floor; the cases below give it an oscillation
 BODY = "&body shape = 'box', x = 0.3, y = 0.2, width = 0.06, height = 0.06, {} /\n"
 
@@ -225,6 +228,18 @@ CASES: dict[str, Bad] = {
     "porous_with_repulsive": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'repulsive', diffusion = 'none'")
                                  + POROUS.format("porosity = 0.4, d50 = 0.05"), "numerics", "boundary",
                                  choices=("dynamic",), words=("porous",)),
+    # &slope role = 'filter': one row, a contact model that does not act through the water
+    "filter_role_unknown": Bad(BASE + FILTER.format("").replace("'filter'", "'sieve'"), "slope #1", "role",
+                               choices=("solid", "filter")),
+    "filter_role_on_a_box": Bad(edit("&box role = 'fluid'", "&box role = 'filter'"), "box #1", "role",
+                                choices=("solid", "fluid")),
+    "filter_two_layers": Bad(BASE + FILTER.format(", layers = 2"), "slope #1", "layers", range=(0.0, 1.0),
+                             words=("one row",)),
+    "filter_with_repulsive": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'repulsive', diffusion = 'none'")
+                                 + FILTER.format(""), "numerics", "boundary", choices=("dynamic",),
+                                 words=("filter",)),
+    "filter_with_dynamic_contact": Bad(BASE + FILTER.format("") + "&contact model = 'dynamic' /\n", "contact",
+                                       "model", choices=("noncohesive_spring", "hertz"), words=("filter",)),
 }
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"

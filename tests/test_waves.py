@@ -80,6 +80,26 @@ BAD = {
                                   "armour", "", ("&breakwater",)),
     "breakwater_beyond_domain": (edit("xmax = 2.2", "xmax = 1.6", BW_BASE), "breakwater", "crest_width",
                                  ("xmax",)),
+    # a porous core: its choice, porosities in (0, 1), an underlayer that fits under the
+    # crest, a stone size without &armour, numerics the pores work with
+    "core_unknown": (edit("crest_width = 0.15 /", "crest_width = 0.15, core = 'rubble' /", BW_BASE), "breakwater",
+                     "core", ("'impermeable'", "'porous'")),
+    "core_porosity_one": (edit("crest_width = 0.15 /", "crest_width = 0.15, core = 'porous', core_porosity = 1.0 /",
+                               BW_BASE), "breakwater", "core_porosity", ("(0.00000, 1.00000)",)),
+    "underlayer_porosity_zero": (edit("crest_width = 0.15 /", "crest_width = 0.15, core = 'porous', "
+                                      "underlayer_porosity = 0.0 /", BW_BASE), "breakwater", "underlayer_porosity",
+                                 ("(0.00000, 1.00000)",)),
+    "underlayer_past_the_crest": (edit("crest_width = 0.15 /", "crest_width = 0.15, core = 'porous', "
+                                       "underlayer_thickness = 0.2 /", BW_BASE).replace(
+                                           "&numerics dp = 0.01 /", "&numerics dp = 0.01, h_over_dp = 2.0 /"),
+                                  "breakwater", "underlayer_thickness", ("crest",)),
+    "porous_core_without_stone_size": (edit("crest_width = 0.15 /", "crest_width = 0.15, core = 'porous' /",
+                                            BW_BASE[:BW_BASE.index("&armour")]), "breakwater", "underlayer_d50",
+                                       ("&armour", "(0, 10]")),
+    "porous_core_with_gradient_correction": (edit("crest_width = 0.15 /", "crest_width = 0.15, core = 'porous' /",
+                                                  BW_BASE).replace("&numerics dp = 0.01 /", "&numerics dp = 0.01, "
+                                                                   "kernel_correction = 'gradient' /"),
+                                             "numerics", "kernel_correction", ("core = 'porous'", "'none'")),
 }
 
 
@@ -206,6 +226,80 @@ def test_armour_settles(placement: str, target: float, tmp_path: Path, mbsph: Pa
         i = int(np.argmin(abs(t - 0.5)))
         move = np.hypot(x[i:] - x[i], y[i:] - y[i]).max()
         assert move <= 0.1 * dn, f"unit (body {int(b)}) moved {move * 1e3:.2f} mm after 0.5 s (bar {0.1 * dn * 1e3} mm)"
+
+
+# The settling flume with a porous core and underlayer (doc/porous.md): the pores need
+# h = 2 dp and no gradient correction. Gauge 1 in the core under the crest, 2 at its bed.
+POROUS_SETTLE = SETTLE.replace("&numerics dp = 0.01 /", "&numerics dp = 0.01, h_over_dp = 2.0 /").replace(
+    "crest_width = 0.1 /", "crest_width = 0.1, core = 'porous' /") + """\
+&gauge kind = 'elevation', x = 0.776 /
+&gauge kind = 'pressure', x = 0.9, y = 0.02 /
+"""
+
+
+@pytest.fixture(scope="module")
+def porous_settle(tmp_path_factory: pytest.TempPathFactory, mbsph: Path) -> Path:
+    assert POROUS_SETTLE.count("core = 'porous'") == 1 and "h_over_dp = 2.0" in POROUS_SETTLE
+    folder = tmp_path_factory.mktemp("porous_settle")
+    proc, out = run_case(POROUS_SETTLE.format(placement="regular"), folder, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    return out
+
+
+def test_armour_rests_on_a_porous_core(porous_settle: Path) -> None:
+    """The regular layer on the filter of a porous underlayer, in still water that fills
+    the core, for 2 s: the pores hold water of the stones' porosity (n = 0.4); the filter
+    stops the units (no particle of a unit comes within 0.25 dp of the slope line: they
+    rest 0.5 dp above it); and the water under the fully submerged units presses on them:
+    the mean fluid force normal to the slope, from 1 to 2 s, points away from the slope on
+    each (on an impermeable core, with no water under them, it presses them onto the
+    slope with one to three times their submerged weight; doc/porous.md)."""
+    import math
+
+    import numpy as np
+    from post.armour import read_armour
+    from post.io import FILTER, FLOATING_BODY, list_snapshots, read_csv, read_snapshot
+    out = porous_settle
+    dn, dp, depth = 0.04, 0.01, 0.2
+    first = read_snapshot(list_snapshots(out)[0])
+    assert np.count_nonzero(first.kind == FILTER) > 0
+    core = (first.position[:, 0] > 0.78) & (first.position[:, 0] < 0.95) & (first.position[:, 1] < 0.1) & \
+        (first.kind == 1)
+    assert core.sum() > 50
+    assert np.allclose(first.datasets["porosity"][core], 0.4, atol=1e-9)
+    # the slope line runs from the toe (x_start + flat_length, 0) at 1:1.5
+    alpha = math.atan(1 / 1.5)
+    normal = np.array([-math.sin(alpha), math.cos(alpha)])
+    last = read_snapshot(list_snapshots(out)[-1])
+    assert last.time == pytest.approx(2.0, abs=1e-3)
+    units = last.kind == FLOATING_BODY
+    height = (last.position[units] - np.array([0.3, 0.0])) @ normal
+    assert height.min() >= 0.25 * dp, height.min()
+    d = read_csv(out / "bodies.csv")
+    layer = read_armour(out / "armour.csv")
+    submerged = [b for b, y in zip(layer.body, layer.y0) if y + dn / math.sqrt(2) < depth]
+    assert len(submerged) >= 3
+    for b in submerged:
+        m = (d["body"] == b) & (d["time"] >= 1.0)
+        fn = normal[0] * d["fx_fluid"][m] + normal[1] * d["fy_fluid"][m]
+        assert fn.mean() > 0.0, (b, fn.mean())
+
+
+@pytest.mark.xfail(strict=True, reason="known: the pore water of the core sinks about 0.45 dp below the open "
+                   "water in the first second (the start lattice is not graded across the stones' edge; "
+                   "doc/porous.md, What does not work yet)")
+def test_porous_core_stands_level_with_the_sea(porous_settle: Path) -> None:
+    """Communicating vessels: the water in the core (gauge under the crest, mean of 1 to
+    2 s) at the still-water level within 0.25 dp, and the pressure at the core's bed
+    hydrostatic (mean of 1 to 2 s within 2 % of rho g (d - y))."""
+    import numpy as np
+    dp, depth = 0.01, 0.2
+    g = read_gauges_csv(porous_settle)
+    late = g["time"] >= 1.0
+    assert late.sum() >= 40
+    p_exact = 1000.0 * 9.81 * (depth - 0.02)
+    assert abs(g["p_2"][late].mean() / p_exact - 1.0) <= 0.02, (g["p_2"][late].mean(), p_exact)
+    assert abs(np.nanmean(g["eta_1"][late])) <= 0.25 * dp, g["eta_1"][late]
 
 
 @pytest.mark.parametrize("paddle", ["piston", "flap"])

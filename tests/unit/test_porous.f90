@@ -8,13 +8,14 @@
 !> with the stones' share balances gravity in still water.
 program test_porous
    use kinds, only: rp
-   use constants, only: ndim, kind_fluid, kind_fixed
+   use constants, only: ndim, kind_fluid, kind_fixed, kind_floating
    use porous, only: porous_t, porous_point, porous_field, porous_accel, porous_rate_max, n_por
    use testing, only: check, check_close, test_summary
    implicit none
    type(porous_t) :: por
    real(rp) :: f(n_por), fa(n_por), fb(n_por), kl, kq, ca, n, d, g, vt, eps, jump
-   real(rp) :: x(ndim, 2), v(ndim, 2), acc(ndim, 2), ff(n_por, 2), pr(2), rs(2), dr(2), gfd(ndim), xp(ndim)
+   real(rp) :: x3(ndim, 3), ff3(n_por, 3)
+   real(rp) :: v(ndim, 2), acc(ndim, 2), ff(n_por, 2), pr(2), rs(2), dr(2), gfd(ndim), xp(ndim)
    real(rp), parameter :: hfd = 1.0e-6_rp
    real(rp) :: pts(ndim, 3)
    integer :: k, c
@@ -88,11 +89,12 @@ program test_porous
               'no gradient deep inside')
 
    ! the field of particles: wall particles lend their pressure with the porosity where they are
-   x(:, 1) = [0.5_rp, 0.25_rp]
-   x(:, 2) = [0.5_rp, 0.25_rp]
-   call porous_field(por, 2, x, ff)
-   call check_close(ff(1, 1), n, 1.0e-15_rp, 'fluid particle in the core')
-   call check_close(ff(1, 2), n, 1.0e-15_rp, 'wall particle in the core')
+   x3 = spread([0.5_rp, 0.25_rp], 2, 3)
+   call porous_field(por, 3, x3, [kind_fluid, kind_fixed, kind_floating], ff3)
+   call check_close(ff3(1, 1), n, 1.0e-15_rp, 'fluid particle in the core')
+   call check_close(ff3(1, 2), n, 1.0e-15_rp, 'wall particle in the core')
+   call check(abs(ff3(1, 3) - 1.0_rp) < tiny(1.0_rp) .and. maxval(abs(ff3(2:, 3))) < tiny(1.0_rp), &
+              'a floating body is open water to the pores, wherever it is')
 
    ! with no pair forces, the pore water falls at the terminal velocity of
    ! the Forchheimer law, where kl V + kq V^2 = g: the acceleration vanishes
@@ -103,7 +105,8 @@ program test_porous
    v(:, 2) = [0.0_rp, -0.5_rp*vt]
    acc(:, 1) = [0.0_rp, -g]
    acc(:, 2) = [0.0_rp, -g]
-   ff(:, 2) = ff(:, 1)
+   ff(:, 1) = f
+   ff(:, 2) = f
    pr = 0.0_rp
    dr = 0.0_rp
    rs = 400.0_rp
