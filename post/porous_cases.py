@@ -123,12 +123,12 @@ T_SETTLE = 20.0 * math.sqrt(H / G)
 
 
 def stones_tank_case(stones: str, out_dir: str = "OUT", h_over_dp: float = 2.0) -> str:
-    """Still water H deep in a tank WIDTH wide, walls 3 dp thick, the stones (n = 0.4,
+    """Still water H deep in a tank WIDTH wide, walls the kernel's support thick (2h), the stones (n = 0.4,
     D = 0.02 m) reaching into the walls and the floor: over the whole tank (``full``) or
     its right half (``half``); ``open``: a region of porosity 1 over the whole tank, the
     open-water reference run through the same code. h = 2 dp: the pores at n = 0.4 hold one particle per
     dp^2/n, and h = 2 dp keeps the kernel 1.26 of their spacing wide."""
-    w = 3 * TANK_DP
+    w = math.ceil(2 * h_over_dp - 1e-9) * TANK_DP
     x0 = {"full": -w, "half": 0.5 * WIDTH, "open": -w}[stones]
     n = 1.0 if stones == "open" else N
     t_end = math.ceil(T_SETTLE * 10.0) / 10.0
@@ -164,16 +164,17 @@ COLUMN_W = 0.1                # channel width (m)
 def column_case(d50: float, out_dir: str = "OUT", dp: float = 0.005, h_over_dp: float = 2.0) -> str:
     """A channel COLUMN_W wide: water 0.3 m deep above a layer of stones COLUMN_L thick,
     nothing below the layer; the water drains through and leaves the domain. h = 2 dp
-    by default, as in the tanks."""
+    by default, as in the tanks; the walls the kernel's support thick (2h)."""
+    w = math.ceil(2 * h_over_dp - 1e-9) * dp
     return f"""\
 &run case_name = 'column', t_end = 0.9, dt_out = 0.01, out_dir = '{out_dir}', max_lost_fraction = 1.0 /
 &domain xmin = -0.03, xmax = 0.13, ymin = -0.05, ymax = 0.5 /
 &fluid coef = 10.0 /
 &numerics dp = {dp}, h_over_dp = {h_over_dp}, integrator = 'symplectic' /
-&porous porosity = {N}, d50 = {d50}, xmin = -0.015, xmax = 0.115, ymin = 0.0, ymax = {COLUMN_L} /
+&porous porosity = {N}, d50 = {d50}, xmin = {-w}, xmax = {COLUMN_W + w}, ymin = 0.0, ymax = {COLUMN_L} /
 &box role = 'fluid', xmin = 0.0, xmax = {COLUMN_W}, ymin = 0.0, ymax = 0.4 /
-&box role = 'solid', xmin = -0.015, xmax = 0.0, ymin = 0.0, ymax = 0.45 /
-&box role = 'solid', xmin = {COLUMN_W}, xmax = 0.115, ymin = 0.0, ymax = 0.45 /
+&box role = 'solid', xmin = {-w}, xmax = 0.0, ymin = 0.0, ymax = 0.45 /
+&box role = 'solid', xmin = {COLUMN_W}, xmax = {COLUMN_W + w}, ymin = 0.0, ymax = 0.45 /
 """
 
 

@@ -7,9 +7,10 @@ module input_check
    use constants, only: msg_len
    use errors, only: input_error, fatal
    use input_syntax, only: lower, syntax_check, syntax_scan, assign_t, is_name
+   use geom, only: polygon_area, polygon_self_intersects
    implicit none
    private
-   public :: open_case, scan_groups, group_count, read_failed, read_failed_open, check_real, check_int, &
+   public :: open_case, scan_groups, group_count, read_failed, read_failed_open, check_real, check_int, checked_outline, &
              lower, real_str, int_str, approx_str
 
    character(len=*), parameter :: known_groups(*) = [character(len=16) :: &
@@ -324,4 +325,23 @@ contains
       if (i < lo .or. i > hi) call input_error(file, group, var, 'value '//int_str(i)// &
                                                ' is out of the allowed range ['//int_str(lo)//', '//int_str(hi)//']')
    end subroutine check_int
+   !> The outline of vertices x(1:nv), y(1:nv) of group g as a (2, nv) array,
+   !> counter-clockwise; an outline of zero area or one that crosses itself is
+   !> an input error naming x, y (what: 'polygon', 'outline', as the message says it).
+   function checked_outline(file, g, what, nv, x, y) result(v)
+      character(len=*), intent(in) :: file, g, what
+      integer, intent(in) :: nv
+      real(rp), intent(in) :: x(:), y(:)
+      real(rp), allocatable :: v(:, :)
+      integer :: ist
+      character(len=200) :: emsg
+      allocate (v(2, nv), stat=ist, errmsg=emsg)
+      if (ist /= 0) call fatal('checked_outline: cannot allocate the outline: '//trim(emsg))
+      v(1, :) = x(1:nv)
+      v(2, :) = y(1:nv)
+      if (abs(polygon_area(v)) < 1.0e-12_rp*maxval(abs(v))**2) call input_error(file, g, 'x, y', &
+                                                                                'the '//what//' has zero area')
+      if (polygon_self_intersects(v)) call input_error(file, g, 'x, y', 'the outline crosses itself')
+      if (polygon_area(v) < 0.0_rp) v = v(:, nv:1:-1)
+   end function checked_outline
 end module input_check

@@ -4,10 +4,9 @@
 module input_geometry
    use kinds, only: rp
    use constants, only: name_len, msg_len
-   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, &
+   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, checked_outline, &
                           group_count, int_str, real_str
    use errors, only: input_error, alloc_check, fatal
-   use geom, only: polygon_area, polygon_self_intersects
    use options, only: option_index, role_names, role_solid, role_fluid, role_filter, wall_motion_names, wall_fixed, &
                       wall_oscillate
    implicit none
@@ -103,15 +102,7 @@ contains
          objs(n)%group = 'polygon'
          objs(n)%index = k
          objs(n)%nv = nvert
-         allocate (objs(n)%v(2, nvert), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'objs in read_geometry')
-         objs(n)%v(1, :) = x(1:nvert)
-         objs(n)%v(2, :) = y(1:nvert)
-         if (abs(polygon_area(objs(n)%v)) < 1.0e-12_rp*maxval(abs(objs(n)%v))**2) then
-            call input_error(file, g, 'x, y', 'the polygon has zero area')
-         end if
-         if (polygon_self_intersects(objs(n)%v)) call input_error(file, g, 'x, y', 'the outline crosses itself')
-         if (polygon_area(objs(n)%v) < 0.0_rp) objs(n)%v = objs(n)%v(:, nvert:1:-1)
+         objs(n)%v = checked_outline(file, g, 'polygon', nvert, x, y)
          call set_common(objs(n), g)
       end do
       rewind (u)

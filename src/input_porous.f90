@@ -5,9 +5,9 @@
 module input_porous
    use kinds, only: rp
    use constants, only: msg_len
-   use input_check, only: open_case, read_failed_open, check_real, check_int, group_count, int_str, real_str
+   use input_check, only: open_case, read_failed_open, check_real, check_int, group_count, int_str, real_str, &
+                          checked_outline
    use errors, only: input_error, alloc_check
-   use geom, only: polygon_area, polygon_self_intersects
    implicit none
    private
    public :: porous_cfg, read_porous, write_porous
@@ -94,15 +94,7 @@ contains
             call check_int(file, g, 'nvert', nvert, 3, max_vert)
             regions(k)%is_box = .false.
             regions(k)%nv = nvert
-            allocate (regions(k)%v(2, nvert), stat=ist, errmsg=emsg)
-            call alloc_check(ist, emsg, 'regions in read_porous')
-            regions(k)%v(1, :) = x(1:nvert)
-            regions(k)%v(2, :) = y(1:nvert)
-            if (abs(polygon_area(regions(k)%v)) < 1.0e-12_rp*maxval(abs(regions(k)%v))**2) then
-               call input_error(file, g, 'x, y', 'the outline has zero area')
-            end if
-            if (polygon_self_intersects(regions(k)%v)) call input_error(file, g, 'x, y', 'the outline crosses itself')
-            if (polygon_area(regions(k)%v) < 0.0_rp) regions(k)%v = regions(k)%v(:, nvert:1:-1)
+            regions(k)%v = checked_outline(file, g, 'outline', nvert, x, y)
          end if
       end do
       close (u)

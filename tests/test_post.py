@@ -588,3 +588,24 @@ def test_series_ending_before_t_end_is_stated(tmp_path: Path, capsys: pytest.Cap
     note_end(tmp_path / "bodies.csv", np.arange(0.0, 12.0 + 1e-9, 0.05), 12.0)
     note_end(tmp_path / "bodies.csv", np.arange(0.0, 11.99, 0.05), 12.0)
     assert capsys.readouterr().err == ""
+
+
+def test_breakwater_core_normal_force_is_the_outward_projection(tmp_path: Path) -> None:
+    """post.breakwater_core takes the fluid force on a unit along the slope's outward
+    normal (-sin a, cos a): a force straight up of F has the share F cos a, one pointing
+    down the slope's normal the share -|F|; rows come back in time order."""
+    import math
+
+    from post.breakwater_core import normal_force
+    a = math.atan(1 / 1.5)
+    n = np.array([-math.sin(a), math.cos(a)])
+    rows = ["time,body,fx_fluid,fy_fluid",
+            "0.2,3,0.0,10.0",
+            "0.0,3,1.0,0.0",
+            "0.1,3," + f"{-5 * n[0]},{-5 * n[1]}",
+            "0.1,4,7.0,7.0"]
+    (tmp_path / "bodies.csv").write_text("\n".join(rows) + "\n")
+    bodies = read_csv(tmp_path / "bodies.csv")
+    t, f = normal_force(bodies, 3, a)
+    assert list(t) == [0.0, 0.1, 0.2]
+    assert f == pytest.approx([-math.sin(a), -5.0, 10.0 * math.cos(a)], rel=1e-12)

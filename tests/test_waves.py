@@ -285,6 +285,31 @@ def test_armour_rests_on_a_porous_core(porous_settle: Path) -> None:
         assert fn.mean() > 0.0, (b, fn.mean())
 
 
+def test_units_that_friction_holds_stay_on_a_porous_core(tmp_path: Path, mbsph: Path) -> None:
+    """Units whose friction holds them on the slope with a wide margin (density 5000
+    kg/m3, mu = 2: mu cos(alpha) - sin(alpha) = 1.11 of the submerged weight) rest on the
+    porous core's filter in still water: from 0.5 s to the end of the 2 s run no unit
+    moves more than 0.02 dn (the light units of the flume, whose margin is a tenth of
+    their submerged weight, slide: doc/porous.md)."""
+    import numpy as np
+    from post.armour import read_armour
+    from post.io import read_csv
+    text = POROUS_SETTLE.format(placement="regular").replace("density = 2200.0", "density = 5000.0, mu = 2.0")
+    assert "mu = 2.0" in text
+    proc, out = run_case(text, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    d = read_csv(out / "bodies.csv")
+    units = read_armour(out / "armour.csv")
+    dn = 0.04
+    for b in units.body:
+        m = d["body"] == b
+        t, x, y = d["time"][m], d["x"][m], d["y"][m]
+        assert t[-1] == pytest.approx(2.0, abs=1e-3)
+        i = int(np.argmin(abs(t - 0.5)))
+        move = np.hypot(x[i:] - x[i], y[i:] - y[i]).max()
+        assert move <= 0.02 * dn, f"unit (body {int(b)}) moved {move / dn:.3f} dn after 0.5 s"
+
+
 @pytest.mark.xfail(strict=True, reason="known: the pore water of the core sinks about 0.45 dp below the open "
                    "water in the first second (the start lattice is not graded across the stones' edge; "
                    "doc/porous.md, What does not work yet)")
