@@ -32,7 +32,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test wave-heights unit unit-debug run dambreak breakwater breakwater_core lint bench bench-mpi bench-effects clean figures paper stability study porous
+.PHONY: all debug deps test wave-heights unit unit-debug run dambreak breakwater breakwater_core porous_waves lint bench bench-mpi bench-effects clean figures paper stability study porous
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -183,6 +183,13 @@ breakwater_core: deps build/mbsph
 	wait
 	$(PYTHON) -m post.breakwater_core OUT/breakwater_core/porous OUT/breakwater_core/impermeable --t-start 3.5 \
 	  --out doc/img/breakwater_core.png --table OUT/breakwater_core/table.md
+
+# regular waves on a rectangular porous breakwater: reflection and transmission against
+# Madsen (1974) (doc/porous.md)
+porous_waves: deps build/mbsph
+	$(PYTHON) -m post.porous_waves --write OUT/porous_waves/case.nml
+	$(MPIRUN) -np $(RANKS) build/mbsph OUT/porous_waves/case.nml > OUT/porous_waves/run.out
+	$(PYTHON) -m post.porous_waves OUT/porous_waves
 
 porous: deps build/mbsph
 	$(PYTHON) -m post.porous_cases --bin build/mbsph --out OUT/porous

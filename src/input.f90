@@ -15,6 +15,7 @@ module input
    use input_porous, only: porous_cfg, read_porous, write_porous
    use input_breakwater, only: breakwater_cfg, armour_cfg, read_breakwater, write_breakwater, read_armour, &
                                write_armour
+   use porous, only: max_regions
    use scene_flume, only: armour_layer_t, paddle_object, breakwater_objects, breakwater_porous, armour_units
    use wave_theory, only: wave_number, piston_transfer, flap_transfer, miche_limit, piston_second_order
    use constants, only: pi
@@ -148,6 +149,8 @@ contains
          end do
       end do
       if (size(c%porous) == 0) return
+      if (size(c%porous) > max_regions) call input_error(c%file, 'porous', '', 'at most '//int_str(max_regions)// &
+         ' porous regions (&porous groups and a porous &breakwater core), got '//int_str(size(c%porous)))
       if (c%numerics%integrator_id == integ_verlet) then
          call input_error(c%file, 'numerics', 'integrator', "the porous regions' resistance needs a two-stage "// &
                           "integrator: 'symplectic' or 'predictor_corrector' (Verlet's leapfrog mode grows under it)")

@@ -16,12 +16,15 @@ module porous
    use geom, only: point_in_polygon
    implicit none
    private
-   public :: porous_region_t, porous_t, porous_point, porous_field, porous_accel, porous_rate_max, n_por
+   public :: porous_region_t, porous_t, porous_point, porous_field, porous_accel, porous_rate_max, porous_lookup, &
+             n_por, max_regions
 
    !> Rows of the per-particle porous properties (porous_field): the porosity,
    !> the linear resistance rate, the quadratic resistance factor, the added
    !> mass, the gradient of the porosity (ndim rows).
    integer, parameter :: n_por = 4 + ndim
+   !> the most porous regions of a case (the input refuses more)
+   integer, parameter :: max_regions = 100
 
    type :: porous_region_t
       real(rp), allocatable :: v(:, :)   !< outline (2, nv), counter-clockwise [m]
@@ -38,6 +41,14 @@ module porous
    type :: porous_t
       logical :: on = .false.
       type(porous_region_t), allocatable :: r(:)
+      ! a grid of cells over the regions (porous_lookup): where a whole cell lies
+      ! deep in one region or out of every region's reach, its porous properties
+      ! are those of every point in it, and porous_field takes them from here
+      real(rp) :: lo(ndim) = 0.0_rp          !< lower corner of the grid [m]
+      real(rp) :: cell = 0.0_rp              !< cell size [m]; 0: no grid
+      integer :: nc(ndim) = 0                !< cells along each axis
+      integer, allocatable :: code(:, :)     !< 0: compute; -1: out of reach; r: deep in region r
+      real(rp), allocatable :: deep(:, :)    !< (n_por, regions): the properties deep in each region
    end type porous_t
 
 contains
@@ -52,7 +63,7 @@ contains
       type(porous_t), intent(in) :: por
       real(rp), intent(in) :: x(ndim)
       real(rp) :: f(n_por)
-      real(rp) :: s(size(por%r)), n, t, d, gd(ndim), gn(ndim)
+      real(rp) :: s(max_regions), n, t, d, gd(ndim), gn(ndim)
       integer :: k
       s = 0.0_rp
       gn = 0.0_rp
@@ -71,8 +82,8 @@ contains
       end do
       f = 0.0_rp
       f(1) = 1.0_rp
-      if (all(s <= 0.0_rp)) return
-      n = 1.0_rp - sum(s*(1.0_rp - por%r%n))
+      if (all(s(1:size(por%r)) <= 0.0_rp)) return
+      n = 1.0_rp - sum(s(1:size(por%r))*(1.0_rp - por%r%n))
       f(1) = n
       f(5:) = gn
       do k = 1, size(por%r)
@@ -125,16 +136,94 @@ contains
       integer, intent(in) :: n, kind(:)
       real(rp), intent(in) :: x(:, :)
       real(rp), intent(inout) :: f(:, :)
-      integer :: i
+      integer :: i, c(ndim), code
       do i = 1, n
-         if (kind(i) == kind_floating) then
+         code = 0
+         if (kind(i) == kind_floating) code = -1
+         if (por%cell > 0.0_rp .and. code == 0) then
+            c = floor((x(:, i) - por%lo)/por%cell) + 1
+            if (any(c < 1) .or. any(c > por%nc)) then
+               code = -1
+            else
+               code = por%code(c(1), c(2))
+            end if
+         end if
+         if (code == -1) then
             f(:, i) = 0.0_rp
             f(1, i) = 1.0_rp
+         else if (code > 0) then
+            f(:, i) = por%deep(:, code)
          else
             f(:, i) = porous_point(por, x(:, i))
          end if
       end do
    end subroutine porous_field
+
+   !> The lookup grid of porous_field, cells of size cell over the regions'
+   !> reach: a cell whose every point lies at least half a transition inside
+   !> one region (where its smooth step is 1) and out of every other's reach
+   !> takes that region's properties; one whose every point lies out of every
+   !> region's reach the open water's; the others are computed point by point.
+   !> Exact: the properties at every point of such a cell are those stored.
+   subroutine porous_lookup(por, cell)
+      type(porous_t), intent(inout) :: por
+      real(rp), intent(in) :: cell
+      integer :: i, j, code, ist
+      real(rp) :: hi(ndim), c(ndim)
+      logical :: found(max_regions)
+      character(len=200) :: emsg
+      if (.not. por%on .or. size(por%r) == 0 .or. cell <= 0.0_rp) return
+      por%lo = [minval(por%r%bb(1)), minval(por%r%bb(3))]
+      hi = [maxval(por%r%bb(2)), maxval(por%r%bb(4))]
+      por%cell = cell
+      por%nc = max(1, ceiling((hi - por%lo)/cell))
+      if (allocated(por%code)) deallocate (por%code)
+      if (allocated(por%deep)) deallocate (por%deep)
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (por%code(por%nc(1), por%nc(2)), por%deep(n_por, size(por%r)), stat=ist, errmsg=emsg)
+      if (ist /= 0) then
+         por%cell = 0.0_rp                         ! no grid: every point computed
+         return
+      end if
+      por%deep = 0.0_rp
+      found = .false.
+      do j = 1, por%nc(2)
+         do i = 1, por%nc(1)
+            c = por%lo + ([i, j] - 0.5_rp)*cell
+            code = cell_code(por, c, 0.5_rp*sqrt(2.0_rp)*cell)
+            por%code(i, j) = code
+            if (code > 0) then
+               if (.not. found(code)) por%deep(:, code) = porous_point(por, c)
+               found(code) = .true.
+            end if
+         end do
+      end do
+   end subroutine porous_lookup
+
+   !> The code of the cell of centre c and half-diagonal half (porous_lookup):
+   !> -1 when all of it is out of every region's reach, r when all of it lies
+   !> at least half a transition inside region r and out of every other's
+   !> reach, 0 otherwise.
+   pure integer function cell_code(por, c, half) result(code)
+      type(porous_t), intent(in) :: por
+      real(rp), intent(in) :: c(ndim), half
+      integer :: k, deep_in, reached
+      real(rp) :: d, gd(ndim), w
+      deep_in = 0
+      reached = 0
+      do k = 1, size(por%r)
+         call signed_distance(c, por%r(k)%v, d, gd)
+         w = 0.5_rp*por%r(k)%width
+         if (d + half > -w) reached = reached + 1
+         if (d - half >= w) deep_in = k
+      end do
+      code = 0
+      if (reached == 0) then
+         code = -1
+      else if (reached == 1 .and. deep_in > 0) then
+         code = deep_in
+      end if
+   end function cell_code
 
    !> The acceleration of the pore water of the fluid particles among 1..n
    !> from acc, which holds the pair sums (of grad (n p)) and gravity: plus

@@ -19,7 +19,7 @@ module scene
    use run_state, only: run_ctl_t
    use eos, only: eos_density_at_depth
    use geom, only: point_in_polygon, nearest_edge_normal, distance_to_polygon, polygon_area
-   use porous, only: porous_t, porous_point, n_por
+   use porous, only: porous_t, porous_point, porous_lookup, n_por
    use bc_motion, only: wall_motion_t
    use errors, only: fatal, alloc_check
    implicit none
@@ -427,6 +427,7 @@ contains
                     minval(q%v(2, :)) - 0.5_rp*q%width, maxval(q%v(2, :)) + 0.5_rp*q%width]
          end associate
       end do
+      call porous_lookup(por, c%numerics%h_over_dp*c%numerics%dp)
    end function scene_porous
 
    !> Rows of particles parallel to the slope line, below it (a filter: one row).

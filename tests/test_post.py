@@ -609,3 +609,21 @@ def test_breakwater_core_normal_force_is_the_outward_projection(tmp_path: Path) 
     t, f = normal_force(bodies, 3, a)
     assert list(t) == [0.0, 0.1, 0.2]
     assert f == pytest.approx([-math.sin(a), -5.0, 10.0 * math.cos(a)], rel=1e-12)
+
+
+def test_madsen_porous_breakwater_limits() -> None:
+    """post.porous_waves.madsen: a structure without resistance (stones so large that the
+    linearised friction vanishes) dissipates nothing, K_R^2 + K_T^2 = 1; one of zero width
+    lets the wave through, K_T = 1, K_R = 0; and resistance takes energy out,
+    K_R^2 + K_T^2 < 1, more with finer stones."""
+    from post.porous_waves import madsen
+    lossless = madsen(2.0, 0.3, 0.5, 0.45, 1.0e6, 0.03)
+    assert lossless.f < 1e-6
+    assert lossless.KR ** 2 + lossless.KT ** 2 == pytest.approx(1.0, abs=1e-5)
+    assert 0.0 < lossless.KR < 1.0
+    thin = madsen(2.0, 0.3, 1.0e-9, 0.45, 0.03, 0.03)
+    assert thin.KT == pytest.approx(1.0, abs=1e-6) and thin.KR == pytest.approx(0.0, abs=1e-6)
+    coarse = madsen(2.0, 0.3, 0.5, 0.45, 0.05, 0.03)
+    fine = madsen(2.0, 0.3, 0.5, 0.45, 0.01, 0.03)
+    assert fine.KR ** 2 + fine.KT ** 2 < coarse.KR ** 2 + coarse.KT ** 2 < 1.0
+    assert fine.KT < coarse.KT

@@ -9,7 +9,7 @@
 program test_porous
    use kinds, only: rp
    use constants, only: ndim, kind_fluid, kind_fixed, kind_floating
-   use porous, only: porous_t, porous_point, porous_field, porous_accel, porous_rate_max, n_por
+   use porous, only: porous_t, porous_point, porous_field, porous_accel, porous_rate_max, porous_lookup, n_por
    use testing, only: check, check_close, test_summary
    implicit none
    type(porous_t) :: por
@@ -146,6 +146,37 @@ program test_porous
       call porous_accel(1, [kind_fluid], reshape(f, [n_por, 1]), reshape([0.0_rp, 0.0_rp], [2, 1]), pv, rsv, a, &
                       dr(1:1))
       call check(norm2(a(:, 1)) < 1.0e-6_rp*g, 'hydrostatic across the interface: no acceleration')
+   end block
+
+   ! the lookup grid of porous_field gives every particle exactly what
+   ! porous_point gives it: on a lattice over the regions and around them
+   block
+      integer, parameter :: m = 97
+      real(rp), allocatable :: xs(:, :), fl(:, :)
+      real(rp) :: fp(n_por), dev
+      integer, allocatable :: ks(:)
+      integer :: i, j
+      type(porous_t) :: pl
+      allocate (xs(ndim, m*m), fl(n_por, m*m), ks(m*m))
+      pl = por
+      call porous_lookup(pl, 0.01_rp)
+      call check(pl%cell > 0.0_rp, 'the lookup grid is built')
+      ! (the grid spans the regions' reach: points beyond it are out of reach)
+      call check(count(pl%code == 1) > 0 .and. count(pl%code == 2) > 0 .and. count(pl%code == 0) > 0, &
+                 'cells deep in either region and along the outlines')
+      do j = 1, m
+         do i = 1, m
+            xs(:, (j - 1)*m + i) = [-0.1_rp + 1.2_rp*(i - 1)/(m - 1), -0.1_rp + 0.8_rp*(j - 1)/(m - 1)]
+         end do
+      end do
+      ks = kind_fluid
+      call porous_field(pl, m*m, xs, ks, fl)
+      dev = 0.0_rp
+      do i = 1, m*m
+         fp = porous_point(por, xs(:, i))
+         dev = max(dev, maxval(abs(fl(:, i) - fp)))
+      end do
+      call check(dev < tiny(1.0_rp), 'the lookup grid is exact')
    end block
 
    call test_summary('test_porous')
