@@ -187,8 +187,8 @@ breakwater_core: deps build/mbsph
 # regular waves on a rectangular porous breakwater: reflection and transmission against
 # Madsen (1974) (doc/porous.md)
 porous_waves: deps build/mbsph
-	$(PYTHON) -m post.porous_waves --write OUT/porous_waves/case.nml
-	$(MPIRUN) -np $(RANKS) build/mbsph OUT/porous_waves/case.nml > OUT/porous_waves/run.out
+	$(PYTHON) -m post.porous_waves --write OUT/porous_waves.nml
+	$(MPIRUN) -np $(RANKS) build/mbsph OUT/porous_waves.nml > /dev/null
 	$(PYTHON) -m post.porous_waves OUT/porous_waves
 
 porous: deps build/mbsph

@@ -2,8 +2,8 @@
 emerging from the water) across a flume of constant depth, its reflection and
 transmission coefficients against the long-wave theory of Madsen (1974) (doc/porous.md).
 
-    .venv/bin/python -m post.porous_waves --write OUT/porous_waves/case.nml   # the case file
-    build/mbsph OUT/porous_waves/case.nml
+    .venv/bin/python -m post.porous_waves --write OUT/porous_waves.nml    # the case file
+    build/mbsph OUT/porous_waves.nml
     .venv/bin/python -m post.porous_waves OUT/porous_waves                    # table
 
 or `make porous_waves`. The theory (Madsen 1974; the algorithm of the US Army Corps of
@@ -145,13 +145,14 @@ def table(m: Measured, th: Theory, porosity: float = POROSITY, d50: float = D50)
 def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("out", nargs="?", type=Path, help="output folder of the case: print the table")
-    ap.add_argument("--write", type=Path, help="write the case file here")
+    ap.add_argument("--write", type=Path, help="write the case file here (its run goes to the same path without .nml)")
     ap.add_argument("--dp", type=float, default=DP)
     ap.add_argument("--porosity", type=float, default=POROSITY)
     ap.add_argument("--d50", type=float, default=D50)
     a = ap.parse_args(argv)
     if a.write:
-        _, text = case(out_dir=str(a.write.parent), dp=a.dp, porosity=a.porosity, d50=a.d50)
+        # the run's folder beside the case file (a run writes its effective case.nml into its folder)
+        _, text = case(out_dir=str(a.write.with_suffix("")), dp=a.dp, porosity=a.porosity, d50=a.d50)
         a.write.parent.mkdir(parents=True, exist_ok=True)
         a.write.write_text(text)
         print(a.write)
