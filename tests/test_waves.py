@@ -201,31 +201,39 @@ def layer_porosity(armour_csv: Path) -> tuple[float, float, float]:
     return 1.0 - inside.mean(), float(meta["porosity"]), float(meta["porosity_target"])
 
 
+def moves_after(out: Path, t0: float, t_end: float) -> dict[int, float]:
+    """Per armour unit (body number), the largest distance its centre moved from where it
+    was at t0 to the end of the run, which must reach t_end."""
+    import numpy as np
+    from post.armour import read_armour
+    from post.io import read_csv
+    d = read_csv(out / "bodies.csv")
+    moves = {}
+    for b in read_armour(out / "armour.csv").body:
+        m = d["body"] == b
+        t, x, y = d["time"][m], d["x"][m], d["y"][m]
+        assert t[-1] == pytest.approx(t_end, abs=1e-3)
+        i = int(np.argmin(abs(t - t0)))
+        moves[int(b)] = float(np.hypot(x[i:] - x[i], y[i:] - y[i]).max())
+    return moves
+
+
 @pytest.mark.parametrize("placement,target", [("regular", 0.21), ("irregular", 0.25)])
 def test_armour_settles(placement: str, target: float, tmp_path: Path, mbsph: Path) -> None:
     """The armour layer in still water (the paper's first run): after the first 0.5 s
     no unit moves more than 0.1 dn to the end of a 2 s run; the layer's porosity,
     recomputed from the poses, within 0.02 of the target."""
-    import numpy as np
     proc, out = run_case(SETTLE.format(placement=placement), tmp_path, binary=mbsph, name=CASE)
     assert_ok(proc)
     measured, reported, tgt = layer_porosity(out / "armour.csv")
     assert tgt == pytest.approx(target)
     assert abs(measured - target) <= 0.02, f"porosity {measured:.4f} (reported {reported:.4f}), target {target}"
     assert abs(reported - measured) <= 0.01
-    from post.armour import read_armour
-    from post.io import read_csv
-    d = read_csv(out / "bodies.csv")
-    units = read_armour(out / "armour.csv")
     dn = 0.04
-    assert len(units.body) >= 6
-    for b in units.body:
-        m = d["body"] == b
-        t, x, y = d["time"][m], d["x"][m], d["y"][m]
-        assert t[-1] == pytest.approx(2.0, abs=1e-3)
-        i = int(np.argmin(abs(t - 0.5)))
-        move = np.hypot(x[i:] - x[i], y[i:] - y[i]).max()
-        assert move <= 0.1 * dn, f"unit (body {int(b)}) moved {move * 1e3:.2f} mm after 0.5 s (bar {0.1 * dn * 1e3} mm)"
+    moves = moves_after(out, 0.5, 2.0)
+    assert len(moves) >= 6
+    for b, move in moves.items():
+        assert move <= 0.1 * dn, f"unit (body {b}) moved {move * 1e3:.2f} mm after 0.5 s (bar {0.1 * dn * 1e3} mm)"
 
 
 # The settling flume with a porous core and underlayer (doc/porous.md): the pores need
@@ -291,23 +299,13 @@ def test_units_that_friction_holds_stay_on_a_porous_core(tmp_path: Path, mbsph: 
     porous core's filter in still water: from 0.5 s to the end of the 2 s run no unit
     moves more than 0.02 dn (the light units of the flume, whose margin is a tenth of
     their submerged weight, slide: doc/porous.md)."""
-    import numpy as np
-    from post.armour import read_armour
-    from post.io import read_csv
     text = POROUS_SETTLE.format(placement="regular").replace("density = 2200.0", "density = 5000.0, mu = 2.0")
     assert "mu = 2.0" in text
     proc, out = run_case(text, tmp_path, binary=mbsph, name=CASE)
     assert_ok(proc)
-    d = read_csv(out / "bodies.csv")
-    units = read_armour(out / "armour.csv")
     dn = 0.04
-    for b in units.body:
-        m = d["body"] == b
-        t, x, y = d["time"][m], d["x"][m], d["y"][m]
-        assert t[-1] == pytest.approx(2.0, abs=1e-3)
-        i = int(np.argmin(abs(t - 0.5)))
-        move = np.hypot(x[i:] - x[i], y[i:] - y[i]).max()
-        assert move <= 0.02 * dn, f"unit (body {int(b)}) moved {move / dn:.3f} dn after 0.5 s"
+    for b, move in moves_after(out, 0.5, 2.0).items():
+        assert move <= 0.02 * dn, f"unit (body {b}) moved {move / dn:.3f} dn after 0.5 s"
 
 
 @pytest.mark.xfail(strict=True, reason="known: the pore water of the core sinks about 0.45 dp below the open "
