@@ -185,11 +185,15 @@ breakwater_core: deps build/mbsph
 	  --out doc/img/breakwater_core.png --table OUT/breakwater_core/table.md
 
 # regular waves on a rectangular porous breakwater: reflection and transmission against
-# Madsen (1974) (doc/porous.md)
+# Madsen (1974), and the same flume without it for its own decay (doc/porous.md); the
+# two runs side by side, one core each. PW_DP: the particle spacing [m]
+PW_DP ?= 0.015
 porous_waves: deps build/mbsph
-	$(PYTHON) -m post.porous_waves --write OUT/porous_waves.nml
-	$(MPIRUN) -np $(RANKS) build/mbsph OUT/porous_waves.nml > /dev/null
-	$(PYTHON) -m post.porous_waves OUT/porous_waves
+	$(PYTHON) -m post.porous_waves --write OUT/porous_waves.nml --dp $(PW_DP)
+	$(PYTHON) -m post.porous_waves --write OUT/porous_waves_empty.nml --dp $(PW_DP) --no-structure
+	build/mbsph OUT/porous_waves.nml > /dev/null & pid=$$!; \
+	  build/mbsph OUT/porous_waves_empty.nml > /dev/null; st=$$?; wait $$pid && test $$st = 0
+	$(PYTHON) -m post.porous_waves OUT/porous_waves --empty OUT/porous_waves_empty
 
 porous: deps build/mbsph
 	$(PYTHON) -m post.porous_cases --bin build/mbsph --out OUT/porous

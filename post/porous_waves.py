@@ -87,9 +87,10 @@ def madsen(period: float, depth: float, width: float, n: float, d50: float, H: f
 
 
 def case(out_dir: str = "OUT/porous_waves", dp: float = DP, periods_after: float = 5.0, porosity: float = POROSITY,
-         d50: float = D50):
+         d50: float = D50, structure: bool = True):
     """The flume (post.wave_cases.flume_case) with the structure and a third gauge half a
-    wavelength behind it; h = 2 dp, as the pores need."""
+    wavelength behind it; h = 2 dp, as the pores need. Without the structure: the same
+    flume and gauges, whose heights give the flume's own decay (`corrected`)."""
     k = KH / DEPTH
     L = 2.0 * math.pi / k
     behind = FRONT + WIDTH / L + 0.5
@@ -98,6 +99,8 @@ def case(out_dir: str = "OUT/porous_waves", dp: float = DP, periods_after: float
                     h_over_dp=2.0)
     x_s = fl.x0 + FRONT * L
     thick = math.ceil(4.0 - 1e-9) * dp
+    if not structure:
+        return fl, fl.text + "! no structure: the flume's own decay from the gauges in front to the one behind\n"
     text = fl.text + (f"! the porous breakwater: {WIDTH} m wide, n = {porosity}, D50 = {d50} m, from the bed "
                       f"to above the waves\n&porous porosity = {porosity}, d50 = {d50}, xmin = {x_s:.6f}, "
                       f"xmax = {x_s + WIDTH:.6f}, ymin = {-thick:.6f}, ymax = {2.0 * DEPTH:.6f} /\n")
@@ -131,14 +134,37 @@ def measure(out: Path, periods: float = 4.0, porosity: float = POROSITY, d50: fl
     return Measured(Hi=Hi, KR=r.Kr, KT=Ht / Hi, t0=t0, t1=t1), th
 
 
-def table(m: Measured, th: Theory, porosity: float = POROSITY, d50: float = D50) -> str:
+def corrected(m: Measured, empty: Measured) -> tuple[float, float]:
+    """K_R and K_T of the structure with the flume's own decay taken out: the empty
+    flume's height behind over its incident height, empty.KT, is the decay over the
+    transmitted wave's path from the pair of gauges in front (their mid-point) to the gauge
+    behind; the reflected wave travels from that mid-point to the front face and back,
+    and decays as much per wavelength (exponential decay with distance)."""
+    fl, _ = case()
+    mid = 0.5 * (GAUGES[0] + GAUGES[1])
+    behind = FRONT + WIDTH / fl.length + 0.5
+    path_t, path_r = behind - mid, 2.0 * (FRONT - mid)
+    return m.KR / empty.KT ** (path_r / path_t), m.KT / empty.KT
+
+
+def table(m: Measured, th: Theory, porosity: float = POROSITY, d50: float = D50,
+          empty: Measured | None = None) -> str:
     fl, _ = case()
     head = (f"kh = {KH}, depth {DEPTH} m, T = {fl.period:.3f} s, L = {fl.length:.3f} m; structure {WIDTH} m "
             f"wide, n = {porosity}, D50 = {d50} m; t = {m.t0:.1f} to {m.t1:.1f} s; incident H {m.Hi * 1000:.1f} mm "
             f"(f = {th.f:.3f}, S = {th.S:.3f})\n\n")
-    rows = "| | SPH | Madsen (1974) | difference |\n|---|---|---|---|\n"
-    rows += f"| K_R | {m.KR:.3f} | {th.KR:.3f} | {100 * (m.KR / th.KR - 1):+.1f} % |\n"
-    rows += f"| K_T | {m.KT:.3f} | {th.KT:.3f} | {100 * (m.KT / th.KT - 1):+.1f} % |\n"
+    if empty is None:
+        rows = "| | SPH | Madsen (1974) | difference |\n|---|---|---|---|\n"
+        rows += f"| K_R | {m.KR:.3f} | {th.KR:.3f} | {100 * (m.KR / th.KR - 1):+.1f} % |\n"
+        rows += f"| K_T | {m.KT:.3f} | {th.KT:.3f} | {100 * (m.KT / th.KT - 1):+.1f} % |\n"
+        return head + rows
+    kr, kt = corrected(m, empty)
+    head += (f"the flume without the structure: height behind / incident {empty.KT:.3f}, "
+             f"reflection {empty.KR:.3f}\n\n")
+    rows = ("| | SPH | SPH, the flume's decay taken out | Madsen (1974) | difference |\n"
+            "|---|---|---|---|---|\n")
+    rows += f"| K_R | {m.KR:.3f} | {kr:.3f} | {th.KR:.3f} | {100 * (kr / th.KR - 1):+.1f} % |\n"
+    rows += f"| K_T | {m.KT:.3f} | {kt:.3f} | {th.KT:.3f} | {100 * (kt / th.KT - 1):+.1f} % |\n"
     return head + rows
 
 
@@ -149,16 +175,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--dp", type=float, default=DP)
     ap.add_argument("--porosity", type=float, default=POROSITY)
     ap.add_argument("--d50", type=float, default=D50)
+    ap.add_argument("--no-structure", action="store_true",
+                    help="with --write: the flume without the structure (its own decay)")
+    ap.add_argument("--empty", type=Path, help="output folder of the flume without the structure: "
+                    "the table with the flume's own decay taken out")
     a = ap.parse_args(argv)
     if a.write:
         # the run's folder beside the case file (a run writes its effective case.nml into its folder)
-        _, text = case(out_dir=str(a.write.with_suffix("")), dp=a.dp, porosity=a.porosity, d50=a.d50)
+        _, text = case(out_dir=str(a.write.with_suffix("")), dp=a.dp, porosity=a.porosity, d50=a.d50,
+                       structure=not a.no_structure)
         a.write.parent.mkdir(parents=True, exist_ok=True)
         a.write.write_text(text)
         print(a.write)
     if a.out:
         m, th = measure(a.out, porosity=a.porosity, d50=a.d50)
-        print(table(m, th, a.porosity, a.d50))
+        empty = measure(a.empty)[0] if a.empty else None
+        print(table(m, th, a.porosity, a.d50, empty))
     if not (a.write or a.out):
         fl, _ = case()
         th = madsen(fl.period, DEPTH, WIDTH, POROSITY, D50, fl.height)

@@ -37,10 +37,10 @@ module fluid_forces
       real(rp), allocatable :: lm(:, :)    !< gradient correction matrices
       real(rp), allocatable :: tau(:, :)   !< SPS stress / rho^2
       real(rp), allocatable :: gv(:, :)    !< SPS velocity gradients du/dx, du/dy, dv/dx, dv/dy [1/s]
-      real(rp), allocatable :: por(:, :)   !< porosity, resistance rates, added mass, grad n (porous_field)
+      real(rp), allocatable :: por(:, :)   !< porosity, resistance rates, added mass (porous_field)
       ! porous runs: what the pair loop reads for each particle, a wall or body
       ! particle among the pores standing for pore water of the porosity there
-      real(rp), allocatable :: pp(:)       !< n p [Pa]
+      real(rp), allocatable :: nf(:)       !< porosity where the particle is [-]
       real(rp), allocatable :: mp(:)       !< mass (of a wall or body particle: n m) [kg]
       real(rp), allocatable :: rp(:)       !< superficial density (of a wall or body particle: n rho) [kg/m3]
       real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]
@@ -48,7 +48,7 @@ module fluid_forces
    end type forces_work_t
 
    abstract interface
-      subroutine pairs_iface(n, g, nb, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, &
+      subroutine pairs_iface(n, g, nb, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, nf, &
                              h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
          import :: rp, n_rep, grid_t, nbr_t, ndim
          implicit none
@@ -56,7 +56,7 @@ module fluid_forces
          type(grid_t), intent(in) :: g
          type(nbr_t), intent(in) :: nb
          real(rp), intent(in) :: x(ndim, n), v(ndim, n), rho(n), irho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
-         real(rp), intent(in) :: nrm(ndim, n)
+         real(rp), intent(in) :: nrm(ndim, n), nf(:)
          integer, intent(in) :: kind(n), surf(n)
          real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
          real(rp), intent(inout) :: acc(ndim, n), drho(n)
@@ -114,7 +114,7 @@ contains
       character(len=200) :: emsg
       if (allocated(w%acc)) then
          if (size(w%drho) >= nmax) return
-         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%pp, w%mp, w%rp)
+         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%nf, w%mp, w%rp)
       end if
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax), stat=ist, errmsg=emsg)
@@ -144,7 +144,7 @@ contains
          call alloc_check(ist, emsg, 'w%tau, w%gv in forces_ensure')
       end if
       ! allow(multiple-allocations-with-stat): either refused is the same stop
-      allocate (w%por(n_por, merge(nmax, 1, prm%porous)), w%pp(merge(nmax, 1, prm%porous)), &
+      allocate (w%por(n_por, merge(nmax, 1, prm%porous)), w%nf(merge(nmax, 1, prm%porous)), &
                 w%mp(merge(nmax, 1, prm%porous)), w%rp(merge(nmax, 1, prm%porous)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'the porous arrays in forces_ensure')
    end subroutine forces_ensure
@@ -164,14 +164,14 @@ contains
       if (prm%porous) then
          ! pressure and the diffusion's density from the density of the pore
          ! water, rho / n (irho holds it until it gets its own values below);
-         ! the pair loop sums n p, walls and bodies lending theirs too
+         ! the pair loop reads each particle's porosity, walls and bodies too
          call porous_field(por, n, p%x, p%kind, w%por)
          do i = 1, n
             w%irho(i) = p%rho(i)
             if (p%kind(i) == kind_fluid) w%irho(i) = p%rho(i)/w%por(1, i)
          end do
          call eos_update(prm, n, w%irho, p%p, w%cs)
-         w%pp(1:n) = w%por(1, 1:n)*p%p(1:n)
+         w%nf(1:n) = w%por(1, 1:n)
          w%mp(1:n) = p%mass(1:n)
          w%rp(1:n) = p%rho(1:n)
          do i = 1, n
@@ -351,12 +351,12 @@ contains
       ! constants of the repulsive boundary, unused by the dynamic one
       rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
       if (prm%porous) then
-         call pairs(p%n, g, nb, p%x, p%v, w%rp, w%irho, w%pp, w%mp, p%kind, w%cs, w%rhod, w%lm, w%tau, &
-                    p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
+         call pairs(p%n, g, nb, p%x, p%v, w%rp, w%irho, p%p, w%mp, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+                    p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
                     prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
       else
          call pairs(p%n, g, nb, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
-                    p%nrm, p%surf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
+                    p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
                     prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
       end if
    end subroutine pair_rows

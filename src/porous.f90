@@ -3,13 +3,15 @@
 !> region of porosity n the particles move with the pore (seepage) velocity
 !> V; the density the continuity equation integrates is the superficial one,
 !> n rho, and the pressure comes from the pore water's density rho. The pair
-!> loop sums n_i p_i / rho_s,i^2 + n_j p_j / rho_s,j^2 (every particle lends it
-!> n p), which conserves momentum pair by pair; porous_accel adds what the
-!> stones give back where the porosity changes, p grad n / (n rho): the two
-!> are the forces of the Lagrangian of water in fixed pores, and the pore
-!> water feels -grad p / rho; the stones resist by the Forchheimer law of Van
-!> Gent (1995) in the Darcy velocity u = n V, and their added mass makes the
-!> water heavier to accelerate by 1 + c_A.
+!> loop gives each particle -(1/rho_i) sum_j V_j (p_i + p_j) grad W_ij, the
+!> open water's pressure term with the pore water's density for the particle
+!> and the partner's volume V_j = m_j / (n_j rho_j): an estimate of -grad p /
+!> rho that needs no gradient of the porosity, so that nothing but the
+!> pressure varies where water crosses the stones' edge. Where the porosities
+!> of a pair differ its two forces differ: the difference is what the stones
+!> give back. The stones resist by the Forchheimer law of Van Gent (1995) in
+!> the Darcy velocity u = n V, and their added mass makes the water heavier to
+!> accelerate by 1 + c_A.
 module porous
    use kinds, only: rp
    use constants, only: kind_fluid, kind_floating, ndim
@@ -21,8 +23,8 @@ module porous
 
    !> Rows of the per-particle porous properties (porous_field): the porosity,
    !> the linear resistance rate, the quadratic resistance factor, the added
-   !> mass, the gradient of the porosity (ndim rows).
-   integer, parameter :: n_por = 4 + ndim
+   !> mass.
+   integer, parameter :: n_por = 4
    !> the most porous regions of a case (the input refuses more)
    integer, parameter :: max_regions = 100
 
@@ -55,26 +57,23 @@ contains
 
    !> The porous properties at a point: porosity n, linear rate kl [1/s],
    !> quadratic factor kq [1/m] and added mass ca, so that the stones'
-   !> resistance per unit mass of pore water is (kl + kq |V|) V, and grad n
-   !> [1/m]. Each region weighs in by a smooth step s of the signed distance to
+   !> resistance per unit mass of pore water is (kl + kq |V|) V. Each region weighs in by a smooth step s of the signed distance to
    !> its outline (0 a half width outside, 1 a half width inside);
    !> n = 1 - sum s (1 - n_r), and the coefficients take the local n.
    pure function porous_point(por, x) result(f)
       type(porous_t), intent(in) :: por
       real(rp), intent(in) :: x(ndim)
       real(rp) :: f(n_por)
-      real(rp) :: s(max_regions), n, t, d, gd(ndim), gn(ndim)
+      real(rp) :: s(max_regions), n, t, d
       integer :: k
       s = 0.0_rp
-      gn = 0.0_rp
       do k = 1, size(por%r)
          associate (r => por%r(k))
             if (x(1) < r%bb(1) .or. x(1) > r%bb(2) .or. x(2) < r%bb(3) .or. x(2) > r%bb(4)) cycle
-            call signed_distance(x, r%v, d, gd)
+            d = signed_distance(x, r%v)
             if (r%width > 0.0_rp) then
                t = min(max(d/r%width + 0.5_rp, 0.0_rp), 1.0_rp)
                s(k) = t*t*(3.0_rp - 2.0_rp*t)
-               gn = gn - (1.0_rp - r%n)*6.0_rp*t*(1.0_rp - t)/r%width*gd
             else
                s(k) = merge(1.0_rp, 0.0_rp, d > 0.0_rp)
             end if
@@ -85,7 +84,6 @@ contains
       if (all(s(1:size(por%r)) <= 0.0_rp)) return
       n = 1.0_rp - sum(s(1:size(por%r))*(1.0_rp - por%r%n))
       f(1) = n
-      f(5:) = gn
       do k = 1, size(por%r)
          if (s(k) <= 0.0_rp) cycle
          associate (r => por%r(k))
@@ -98,37 +96,27 @@ contains
       end do
    end function porous_point
 
-   !> Signed distance d from x to the outline v (> 0 inside) and its gradient.
-   pure subroutine signed_distance(x, v, d, gd)
+   !> Signed distance from x to the outline v (> 0 inside).
+   pure real(rp) function signed_distance(x, v) result(d)
       real(rp), intent(in) :: x(ndim), v(:, :)
-      real(rp), intent(out) :: d, gd(ndim)
       integer :: e, f, nv
-      real(rp) :: a(ndim), w(ndim), t, dd, q(ndim)
+      real(rp) :: a(ndim), w(ndim), t
       nv = size(v, 2)
       d = huge(1.0_rp)
-      gd = 0.0_rp
       do e = 1, nv
          f = modulo(e, nv) + 1
          a = v(:, f) - v(:, e)
          w = x - v(:, e)
          t = max(0.0_rp, min(1.0_rp, dot_product(w, a)/max(dot_product(a, a), tiny(1.0_rp))))
-         q = w - t*a
-         dd = norm2(q)
-         if (dd < d) then
-            d = dd
-            gd = q/max(dd, tiny(1.0_rp))        ! from the outline to x
-         end if
+         d = min(d, norm2(w - t*a))
       end do
-      if (.not. point_in_polygon(x(1:2), v)) then
-         d = -d
-         gd = -gd
-      end if
-   end subroutine signed_distance
+      if (.not. point_in_polygon(x(1:2), v)) d = -d
+   end function signed_distance
 
    !> The porous properties of particles 1..n, where they are: the fluid's
-   !> pores, and the porosity every particle lends its pressure with (walls and
-   !> fixed or moving bodies inside a region too, so that n p is smooth across
-   !> them). A floating body is never among the stones (it rests on them, on a
+   !> pores, and the porosity every particle takes part in the pairs with
+   !> (walls and fixed or moving bodies inside a region too, as pore water).
+   !> A floating body is never among the stones (it rests on them, on a
    !> filter): its particles are open water to the pores' terms, so that the
    !> water in the pores under it presses on it with its own pressure.
    subroutine porous_field(por, n, x, kind, f)
@@ -208,11 +196,11 @@ contains
       type(porous_t), intent(in) :: por
       real(rp), intent(in) :: c(ndim), half
       integer :: k, deep_in, reached
-      real(rp) :: d, gd(ndim), w
+      real(rp) :: d, w
       deep_in = 0
       reached = 0
       do k = 1, size(por%r)
-         call signed_distance(c, por%r(k)%v, d, gd)
+         d = signed_distance(c, por%r(k)%v)
          w = 0.5_rp*por%r(k)%width
          if (d + half > -w) reached = reached + 1
          if (d - half >= w) deep_in = k
@@ -226,13 +214,13 @@ contains
    end function cell_code
 
    !> The acceleration of the pore water of the fluid particles among 1..n
-   !> from acc, which holds the pair sums (of grad (n p)) and gravity: plus
-   !> what the stones give back, p grad n / rho_s, minus the resistance, all
-   !> over 1 + c_A; the rates of wall and body particles among the pores back
-   !> to their own mass and density. Outside the regions nothing changes.
-   subroutine porous_accel(n, kind, f, v, p, rho, acc, drho)
+   !> from acc, which holds the pair sums (-grad p / rho) and gravity: minus
+   !> the resistance, all over 1 + c_A; the rates of wall and body particles
+   !> among the pores back to their own mass and density. Outside the regions
+   !> nothing changes.
+   subroutine porous_accel(n, kind, f, v, acc, drho)
       integer, intent(in) :: n, kind(:)
-      real(rp), intent(in) :: f(:, :), v(:, :), p(:), rho(:)
+      real(rp), intent(in) :: f(:, :), v(:, :)
       real(rp), intent(inout) :: acc(:, :), drho(:)
       integer :: i
       do i = 1, n
@@ -245,8 +233,7 @@ contains
             acc(:, i) = f(1, i)*acc(:, i)
             cycle
          end if
-         acc(:, i) = (acc(:, i) + p(i)/rho(i)*f(5:, i) - (f(2, i) + f(3, i)*norm2(v(:, i)))*v(:, i))/ &
-                     (1.0_rp + f(4, i))
+         acc(:, i) = (acc(:, i) - (f(2, i) + f(3, i)*norm2(v(:, i)))*v(:, i))/(1.0_rp + f(4, i))
       end do
    end subroutine porous_accel
 

@@ -162,7 +162,7 @@ contains
       call comm_halo_reverse(halo, w%acc, p%n_own)
       call comm_halo_reverse(halo, w%drho, p%n_own)
       ! the pore water's acceleration needs the whole pair sums
-      if (por%on) call porous_accel(p%n_own, p%kind, w%por, p%v, p%p, p%rho, w%acc, w%drho)
+      if (por%on) call porous_accel(p%n_own, p%kind, w%por, p%v, w%acc, w%drho)
       if (size(bodies) == 0) return
       call timer_start(t_bodies)
       call bodies_fluid_forces(bodies, p, w%acc)
