@@ -8,11 +8,12 @@ tests/test_porous.py run the same texts), with what each is measured against.
   with stones: hydrostatic pressure, one level inside and outside the stones.
 - ``column``: water ponded above a layer of stones in a channel drains through it
   and falls out below: the flow rate against the Forchheimer law over the layer
-  (quasi-steady, the porosity's transition included).
+  (quasi-steady, the porosity's transition included), for the three stone sizes of
+  ``drain`` (the Darcy, the transitional and the turbulent regime).
 
     .venv/bin/python -m post.porous_cases [--bin build/mbsph] [--out OUT/porous]
 
-runs them all (about 40 s on one core) and prints the table of doc/porous.md.
+runs them all (about 60 s on one core) and prints the table of doc/porous.md.
 
     .venv/bin/python -m post.porous_cases --liu OUT/porous_dambreak --liu-data DIR
 
@@ -295,9 +296,15 @@ def main() -> int:
                   f"outside {lo:.4f} m; mean speed {speed:.1e} sqrt(gH) (Darcy {darcy:.1e}) | one level, one pressure at one depth | "
                   f"{1000 * (li - lo):+.1f} mm ({(li - lo) / TANK_DP:+.2f} dp); pressures within "
                   f"{100 * dp_max:.2f} % of rho g H |")
-    d50 = 0.01
     cdp, chd = a.column_dp, a.column_h_over_dp
-    out = _run(binary, column_case(d50, dp=cdp, h_over_dp=chd), root / "column")
+    for name, d50 in REGIMES.items():
+        column_rows(binary, root / f"column_{name}", d50, cdp, chd)
+    return 0
+
+
+def column_rows(binary: str, root: Path, d50: float, cdp: float, chd: float) -> None:
+    """Run the column with stones of size d50 and print its rows of the table."""
+    out = _run(binary, column_case(d50, dp=cdp, h_over_dp=chd), root)
     kl, kq, _ = coefficients(N, d50)
     snaps = [read_snapshot(p) for p in list_snapshots(out)]
     # windows of 0.1 s (ten snapshots) from 0.2 s on: the means of each window
@@ -325,7 +332,6 @@ def main() -> int:
               f"under {head:.3f} m; in the layer dp/dy {grad:.0f} Pa/m at V = {vin:.3f} m/s | Forchheimer law, "
               f"quasi-steady: {law:.4f} m/s; rho (kl V + kq V^2 - g) = {grad_law:.0f} Pa/m | "
               f"{100 * (u / law - 1):+.1f} %; {100 * (grad / grad_law - 1):+.1f} % |")
-    return 0
 
 
 if __name__ == "__main__":
