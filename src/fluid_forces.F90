@@ -40,7 +40,7 @@ module fluid_forces
       real(rp), allocatable :: por(:, :)   !< porosity, resistance rates, added mass (porous_field)
       ! porous runs: what the pair loop reads for each particle, a wall or body
       ! particle among the pores standing for pore water of the porosity there
-      real(rp), allocatable :: nf(:)       !< porosity where the particle is [-]
+      real(rp), allocatable :: nf(:)       !< porosity where the particle is (por's first row, contiguous for the pair loop) [-]
       real(rp), allocatable :: mp(:)       !< mass (of a wall or body particle: n m) [kg]
       real(rp), allocatable :: rp(:)       !< superficial density (of a wall or body particle: n rho) [kg/m3]
       real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]

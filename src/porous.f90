@@ -57,8 +57,9 @@ contains
 
    !> The porous properties at a point: porosity n, linear rate kl [1/s],
    !> quadratic factor kq [1/m] and added mass ca, so that the stones'
-   !> resistance per unit mass of pore water is (kl + kq |V|) V. Each region weighs in by a smooth step s of the signed distance to
-   !> its outline (0 a half width outside, 1 a half width inside);
+   !> resistance per unit mass of pore water is (kl + kq |V|) V. Each region
+   !> weighs in by a smooth step s of the signed distance to its outline (0 a
+   !> half width outside, 1 a half width inside);
    !> n = 1 - sum s (1 - n_r), and the coefficients take the local n.
    pure function porous_point(por, x) result(f)
       type(porous_t), intent(in) :: por
