@@ -53,7 +53,7 @@ contains
       type(particles_t), intent(inout) :: p
       real(rp), intent(in) :: t
       integer :: i, b
-      real(rp) :: w, xf, uf
+      real(rp) :: w, xf, uf, xg(2), vg(2)
       call paddle_motion(walls%paddle, t, xf, uf)
       do i = 1, p%n
          if (p%kind(i) /= kind_moving) cycle
@@ -67,6 +67,11 @@ contains
                p%v(:, i) = m%amplitude*w*cos(w*t)
             case (wall_wavemaker)
                call paddle_place(walls%paddle%flap, p%xb(:, i), xf, uf, m%hinge, m%hinge_depth, p%x(:, i), p%v(:, i))
+               if (p%mdbc) then
+                  ! the ghost point moves with the paddle (a flap turns it)
+                  call paddle_place(walls%paddle%flap, p%xb(:, i) + p%gob(:, i), xf, uf, m%hinge, m%hinge_depth, xg, vg)
+                  p%gof(:, i) = xg - p%x(:, i)
+               end if
             case (wall_fixed)    ! nothing to move
             case default
                call fatal('motion_apply: unknown motion '//int_str(m%motion))

@@ -84,6 +84,7 @@ contains
          p%x(:, i) = bodies(b)%pose%c + r
          p%v(:, i) = rigid_point_velocity(bodies(b)%v, bodies(b)%omega, r)
          p%nrm(:, i) = rigid_rotate(rot(:, :, b), p%nb(:, i))
+         if (p%mdbc) p%gof(:, i) = rigid_rotate(rot(:, :, b), p%gob(:, i))
       end do
    end subroutine bodies_place
 

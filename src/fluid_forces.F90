@@ -10,7 +10,8 @@ module fluid_forces
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
    use constants, only: kind_fluid, ndim
-   use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive
+   use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive, bnd_mdbc, &
+                     slip_wall
    use grid, only: grid_t, grid_ranges, grid_last_cell
    use particles, only: particles_t
    use eos, only: eos_update, eos_dynamic_density
@@ -43,6 +44,9 @@ module fluid_forces
       real(rp), allocatable :: nf(:)       !< porosity where the particle is (por's first row, contiguous for the pair loop) [-]
       real(rp), allocatable :: mp(:)       !< mass (of a wall or body particle: n m) [kg]
       real(rp), allocatable :: rp(:)       !< superficial density (of a wall or body particle: n rho) [kg/m3]
+      !> mDBC with a slip condition: the velocities the pair loop reads, the
+      !> water's own and the solids' as the condition makes them (bc_mdbc) [m/s]
+      real(rp), allocatable :: vb(:, :)
       real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]
       type(nbr_t) :: seg(4)                !< pair lists of the columns in the sweep (forces_sweep)
    end type forces_work_t
@@ -114,7 +118,7 @@ contains
       character(len=200) :: emsg
       if (allocated(w%acc)) then
          if (size(w%drho) >= nmax) return
-         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%nf, w%mp, w%rp)
+         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%nf, w%mp, w%rp, w%vb)
       end if
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax), stat=ist, errmsg=emsg)
@@ -147,6 +151,8 @@ contains
       allocate (w%por(n_por, merge(nmax, 1, prm%porous)), w%nf(merge(nmax, 1, prm%porous)), &
                 w%mp(merge(nmax, 1, prm%porous)), w%rp(merge(nmax, 1, prm%porous)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'the porous arrays in forces_ensure')
+      allocate (w%vb(ndim, merge(nmax, 1, prm%boundary == bnd_mdbc .and. prm%slip /= slip_wall)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'w%vb in forces_ensure')
    end subroutine forces_ensure
 
    !> What a force evaluation needs before its pairs: pressure and sound
@@ -352,6 +358,11 @@ contains
       rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
       if (prm%porous) then
          call pairs(p%n, g, nb, p%x, p%v, w%rp, w%irho, p%p, w%mp, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+                    p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
+                    prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
+      else if (prm%boundary == bnd_mdbc .and. prm%slip /= slip_wall) then
+         ! the solids' velocities as the slip condition makes them (bc_mdbc)
+         call pairs(p%n, g, nb, p%x, w%vb, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
                     p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
                     prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
       else

@@ -24,7 +24,7 @@ module input
    use errors, only: input_error, fatal, alloc_check
    use options, only: role_fluid, role_filter, model_dynamic, wall_wavemaker, wave_regular, wave_file, paddle_piston, &
                       gauge_pressure, &
-                      integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, visc_laminar_sps
+                      integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, bnd_mdbc, visc_laminar_sps
    implicit none
    private
    public :: case_cfg, read_case, write_case
@@ -103,7 +103,21 @@ contains
       call check_waves(c)
       call check_porous(c, tol)
       call check_filters(c)
+      call check_mdbc(c)
    end subroutine read_case
+
+   !> The modified dynamic boundary sets the solids' density from the water
+   !> beyond them: what acts through the solids' own continuity equation (the
+   !> contact model 'dynamic') and the pores' terms are not written for it.
+   subroutine check_mdbc(c)
+      type(case_cfg), intent(in) :: c
+      if (c%numerics%boundary_id /= bnd_mdbc) return
+      if (size(c%bodies) > 0 .and. c%contact%model_id == model_dynamic) call input_error(c%file, 'contact', 'model', &
+         "'dynamic' acts through the solids' own density, which boundary = 'mdbc' takes from the water: use "// &
+         "'noncohesive_spring', 'noncohesive', 'repulsive' or 'hertz'")
+      if (size(c%porous) > 0) call input_error(c%file, 'numerics', 'boundary', &
+         "'mdbc' does not work with porous regions (&porous, &breakwater core = 'porous') yet: use 'dynamic'")
+   end subroutine check_mdbc
 
    !> A filter is massless to the water: it stops bodies through their
    !> contact, so a model that acts through the water's terms cannot use it.

@@ -5,7 +5,7 @@ module input_numerics
    use input_check, only: open_case, read_failed, check_real, check_int, group_count
    use options, only: option_index, kernel_names, integ_names, visc_names, bnd_names, diff_names, kgc_names, &
                       kernel_wendland, integ_symplectic, visc_artificial, bnd_dynamic, bnd_repulsive, diff_none, &
-                      diff_fourtakas, kgc_none, kgc_gradient
+                      diff_fourtakas, kgc_none, kgc_gradient, slip_names, slip_wall
    use errors, only: input_error
    implicit none
    private
@@ -30,18 +30,19 @@ module input_numerics
       character(len=name_len) :: kernel_correction = 'none'  !< 'none' | 'gradient' | 'shepard'
       integer :: shepard_every = 30                      !< Shepard density filter every N steps
       logical :: kgc_continuity = .true.                 !< the gradient correction also in the continuity equation
-      character(len=name_len) :: boundary = 'dynamic'    !< fluid on solids: 'dynamic' | 'repulsive'
+      character(len=name_len) :: boundary = 'dynamic'    !< fluid on solids: 'dynamic' | 'repulsive' | 'mdbc'
+      character(len=name_len) :: mdbc_slip = 'wall'      !< mDBC: velocity of the solid particles: 'wall' | 'noslip' | 'freeslip'
       ! the choices as their values in options, set where they are read
       integer :: kernel_id = kernel_wendland, integrator_id = integ_symplectic, viscosity_id = visc_artificial
-      integer :: diffusion_id = diff_fourtakas, kgc_id = kgc_none, boundary_id = bnd_dynamic
+      integer :: diffusion_id = diff_fourtakas, kgc_id = kgc_none, boundary_id = bnd_dynamic, slip_id = slip_wall
    end type numerics_cfg
 
    real(rp) :: dp, h_over_dp, cfl, dt_fixed, alpha, nu, cs_sps, ci_sps, delta
-   character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction, boundary
+   character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction, boundary, mdbc_slip
    integer :: verlet_every, shepard_every
    logical :: kgc_continuity
    namelist /numerics/ dp, h_over_dp, kernel, cfl, dt_fixed, integrator, verlet_every, viscosity, alpha, &
-      nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every, kgc_continuity, boundary
+      nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every, kgc_continuity, boundary, mdbc_slip
 
 contains
 
@@ -52,6 +53,7 @@ contains
       alpha = c%alpha; nu = c%nu; cs_sps = c%cs_sps; ci_sps = c%ci_sps
       diffusion = c%diffusion; delta = c%delta; kernel_correction = c%kernel_correction
       shepard_every = c%shepard_every; boundary = c%boundary; kgc_continuity = c%kgc_continuity
+      mdbc_slip = c%mdbc_slip
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -61,6 +63,7 @@ contains
       c%alpha = alpha; c%nu = nu; c%cs_sps = cs_sps; c%ci_sps = ci_sps
       c%diffusion = diffusion; c%delta = delta; c%kernel_correction = kernel_correction
       c%shepard_every = shepard_every; c%boundary = boundary; c%kgc_continuity = kgc_continuity
+      c%mdbc_slip = mdbc_slip
    end subroutine from_vars
 
    subroutine read_numerics(file, c)
@@ -96,6 +99,8 @@ contains
       call check_real(file, 'numerics', 'ci_sps', c%ci_sps, 0.0_rp, 1.0_rp)
       c%boundary_id = option_index(file, 'numerics', 'boundary', c%boundary, bnd_names)
       c%boundary = bnd_names(c%boundary_id)
+      c%slip_id = option_index(file, 'numerics', 'mdbc_slip', c%mdbc_slip, slip_names)
+      c%mdbc_slip = slip_names(c%slip_id)
       if (len_trim(c%diffusion) == 0) c%diffusion = merge(diff_names(diff_none), diff_names(diff_fourtakas), &
                                                           c%boundary_id == bnd_repulsive)
       c%diffusion_id = option_index(file, 'numerics', 'diffusion', c%diffusion, diff_names)

@@ -7,7 +7,7 @@
 !> other number of ranks can restart it too (each rank keeps its slab).
 module io_checkpoint
    use kinds, only: rp
-   use particles, only: particles_t, particles_alloc, particles_field, field_on, fields, nfield
+   use particles, only: particles_t, particles_alloc, particles_field, field_on, fields, nfield, grp_mdbc
    use run_state, only: state_t
    use body_dynamics, only: body_t
    use, intrinsic :: iso_fortran_env, only: int64
@@ -63,6 +63,7 @@ contains
       path = trim(out_dir)//'/checkpoint.h5'
       f = h5_create(path//'.tmp')
       do k = 1, nfield
+         if (.not. in_file(p, k)) cycle
          ! a field that is off is written as its stand-in: one file layout
          kk = k
          if (.not. field_on(p, k)) kk = fields(k)%standin
@@ -103,11 +104,12 @@ contains
       call h5_attr_write(f, 'n_bodies', size(bodies))
       ! each rank's particles, summed over the ranks (exact: every part is below 2^31)
       do k = 1, nfield
+         if (.not. in_file(p, k)) cycle
          kk = k
          if (.not. field_on(p, k)) kk = fields(k)%standin
          call particles_field(p, kk, col(k)%r, col(k)%iv)
       end do
-      sums(1) = real(fields_checksum(col, n), rp)
+      sums(1) = real(fields_checksum(col, n, [(in_file(p, k), k=1, nfield)]), rp)
       call comm_sum(sums)
       call h5_attr_write(f, 'checksum', real(mod(nint(sums(1), int64), prime), rp))
       call h5_close(f)
@@ -155,6 +157,10 @@ contains
       end if
       ! a field that is off is read aside, for the checksum only
       do k = 1, nfield
+         if (.not. in_file(p, k)) cycle
+         if (.not. h5_exists(f, trim(fields(k)%name))) call input_error(case_file, 'run', 'restart', &
+            trim(out_dir)//'/checkpoint.h5 holds no '//trim(fields(k)%name)//': it was written by a run '// &
+            "without boundary = 'mdbc'; restart with the case's first boundary or run anew")
          if (field_on(p, k)) then
             call particles_field(p, k, col(k)%r, col(k)%iv)
          else
@@ -174,9 +180,12 @@ contains
       ! short that HDF5 still reads) is refused here, not run from
       if (h5_attr_exists(f, 'checksum')) then
          call h5_attr_read(f, 'checksum', sum_file)
-         if (fields_checksum(col, n) /= nint(sum_file, int64)) call input_error(case_file, 'run', 'restart', &
-            trim(out_dir)//'/checkpoint.h5: the particle data do not match the checksum written with them: '// &
-            'the file was changed or damaged after it was written; restart from an earlier copy or run anew')
+         if (fields_checksum(col, n, [(in_file(p, k), k=1, nfield)]) /= nint(sum_file, int64)) then
+            call input_error(case_file, 'run', 'restart', &
+                             trim(out_dir)//'/checkpoint.h5: the particle data do not match the checksum written '// &
+                             'with them: the file was changed or damaged after it was written; restart from an '// &
+                             'earlier copy or run anew')
+         end if
       end if
       call h5_attr_read(f, 'n_id', p%n_id)
       call h5_attr_read(f, 't', st%t)
@@ -242,24 +251,35 @@ contains
       call h5_close(f)
    end subroutine checkpoint_check
 
+   !> Whether the checkpoint holds field k: every field, the Verlet history as
+   !> its stand-in when it is off (one layout), the mDBC ghost offsets only
+   !> in mDBC runs (so a checkpoint of any other run is as it was before them).
+   pure logical function in_file(p, k)
+      type(particles_t), intent(in) :: p
+      integer, intent(in) :: k
+      in_file = field_on(p, k) .or. fields(k)%group /= grp_mdbc
+   end function in_file
+
    !> Sum over particles 1..n, modulo prime, of a hash of each one's record
    !> (every word of every field, as its bits, in the order of the fields'
    !> table: the reals, then the integers).
-   integer(int64) function fields_checksum(col, n) result(cs)
+   integer(int64) function fields_checksum(col, n, use) result(cs)
       type(column_t), intent(in) :: col(nfield)
       integer, intent(in) :: n
+      logical, intent(in) :: use(nfield)
       integer :: i, k
       integer(int64) :: h
       cs = 0
       do i = 1, n
          h = 0
-         do k = 1, nfield
+         columns: do k = 1, nfield
+            if (.not. use(k)) cycle columns
             if (fields(k)%int) then
                call mix_i(h, col(k)%iv(i:i))
             else
                call mix_r(h, col(k)%r(:, i))
             end if
-         end do
+         end do columns
          cs = mod(cs + h, prime)
       end do
    end function fields_checksum

@@ -20,9 +20,11 @@ module io_snapshot
    public :: snap_index_t, snapshot_write, snapshot_index_rebuild
 
    !> What the XDMF index of a run lists: the time and particle count of each
-   !> snapshot, and whether they hold the porosity (a run with porous regions).
+   !> snapshot, and whether they hold the porosity (a run with porous regions)
+   !> and the ghost offsets (a run with the modified dynamic boundary).
    type :: snap_index_t
       logical :: porosity = .false.
+      logical :: ghost = .false.
       integer :: nlist = 0
       real(rp), allocatable :: list_t(:)
       integer, allocatable :: list_n(:)
@@ -70,6 +72,7 @@ contains
             call h5_write_part(f, trim(fields(m)%snap), r(:, ord), off, tot(1))
          end if
       end do
+      ix%ghost = p%mdbc
       ! the porosity where each particle is (doc/porous.md), for ParaView
       ix%porosity = por%on
       if (por%on) then
@@ -268,6 +271,7 @@ contains
          call attribute(u, 'body', 'Scalar', ns, '', 'Int', '4', snap)
          call attribute(u, 'id', 'Scalar', ns, '', 'Int', '4', snap)
          if (ix%porosity) call attribute(u, 'porosity', 'Scalar', ns, '', 'Float', '8', snap)
+         if (ix%ghost) call attribute(u, 'ghost', 'Vector', ns, ' 2', 'Float', '8', snap)
          write (u, '(a)') '   </Grid>'
       end do
       write (u, '(a)') '  </Grid>'

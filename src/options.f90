@@ -16,7 +16,8 @@ module options
    public :: diff_names, diff_none, diff_molteni, diff_fourtakas
    public :: kgc_names, kgc_none, kgc_gradient, kgc_shepard
    public :: integ_names, integ_symplectic, integ_predictor_corrector, integ_verlet
-   public :: bnd_names, bnd_dynamic, bnd_repulsive
+   public :: bnd_names, bnd_dynamic, bnd_repulsive, bnd_mdbc
+   public :: slip_names, slip_wall, slip_noslip, slip_freeslip
    public :: contact_names, model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
    public :: role_names, role_solid, role_fluid, role_filter
    public :: wall_motion_names, wall_fixed, wall_oscillate, wall_wavemaker
@@ -45,8 +46,11 @@ module options
                                                            'predictor_corrector', 'verlet']
    integer, parameter :: integ_symplectic = 1, integ_predictor_corrector = 2, integ_verlet = 3
    !> &numerics boundary
-   character(len=name_len), parameter :: bnd_names(*) = [character(len=name_len) :: 'dynamic', 'repulsive']
-   integer, parameter :: bnd_dynamic = 1, bnd_repulsive = 2
+   character(len=name_len), parameter :: bnd_names(*) = [character(len=name_len) :: 'dynamic', 'repulsive', 'mdbc']
+   integer, parameter :: bnd_dynamic = 1, bnd_repulsive = 2, bnd_mdbc = 3
+   !> &numerics mdbc_slip: the velocity the water sees at an mDBC solid particle
+   character(len=name_len), parameter :: slip_names(*) = [character(len=name_len) :: 'wall', 'noslip', 'freeslip']
+   integer, parameter :: slip_wall = 1, slip_noslip = 2, slip_freeslip = 3
    !> &contact model
    character(len=name_len), parameter :: contact_names(*) = [character(len=name_len) :: 'dynamic', 'repulsive', &
                                                              'noncohesive', 'noncohesive_spring', 'hertz']

@@ -6,12 +6,13 @@ module params
    use options, only: kernel_wendland, visc_artificial, visc_laminar_sps, &
                       diff_none, diff_molteni, diff_fourtakas, kgc_none, kgc_gradient, &
                       kgc_shepard, integ_symplectic, integ_predictor_corrector, integ_verlet, &
-                      bnd_dynamic, bnd_repulsive
+                      bnd_dynamic, bnd_repulsive, bnd_mdbc, slip_wall, slip_noslip, slip_freeslip
    implicit none
    private
    public :: params_t, visc_artificial, visc_laminar_sps, diff_none, diff_molteni, &
              diff_fourtakas, kgc_none, kgc_gradient, kgc_shepard, integ_symplectic, &
-             integ_predictor_corrector, integ_verlet, bnd_dynamic, bnd_repulsive
+             integ_predictor_corrector, integ_verlet, bnd_dynamic, bnd_repulsive, bnd_mdbc, &
+             slip_wall, slip_noslip, slip_freeslip
 
    ! the enumerated values of the model choices are those of module options,
    ! whose option_index turns the names into them where the input is read;
@@ -39,6 +40,7 @@ module params
       integer :: integrator = integ_symplectic
       integer :: verlet_every
       integer :: boundary = bnd_dynamic    !< how the fluid meets solids
+      integer :: slip = slip_wall          !< mDBC: the velocity the water sees at a solid particle
       logical :: porous = .false.          !< the scene has porous regions (module porous)
       ! repulsive boundary (doc/theory.md): A = rep_a - rep_b u_n
       real(rp) :: rep_a = 0.0_rp           !< (10/coef)^2 0.01 c0^2 / h [m/s2]

@@ -3,9 +3,11 @@
 !> Every per-particle field is listed once, in the table `fields` below: its
 !> name in the checkpoint, its name in the snapshot (blank: not written
 !> there), its components, whether it is an integer field, whether the halo
-!> copies of a neighbouring rank carry it, whether only the Verlet
-!> integrator needs it, and the field whose values the checkpoint holds in
-!> its place when it is off (so that the file keeps one layout). Allocation, growth, the sort's permutation, the move
+!> copies of a neighbouring rank carry it, which runs hold it (all, or only
+!> those of the Verlet integrator or of the modified dynamic boundary), and
+!> the field whose values the checkpoint holds in
+!> its place when it is off (so that the file keeps one layout; the mDBC
+!> fields are in the checkpoint of an mDBC run only). Allocation, growth, the sort's permutation, the move
 !> of a particle to another rank (comm_halo), the halo, the checkpoint and
 !> its checksum (io_checkpoint) and the snapshot (io_snapshot) all loop over
 !> that table (through particles_field), so that adding a field is three
@@ -17,6 +19,7 @@ module particles
    use constants, only: ndim
    implicit none
    private
+   public :: grp_all, grp_verlet, grp_mdbc
    public :: particles_t, particles_alloc, particles_grow, particles_fit, particles_permute, particles_count_kind, &
              field_t, fields, nfield, particles_field, field_on, particles_copy, particles_pack, particles_unpack, &
              particles_width, work_array
@@ -31,6 +34,7 @@ module particles
       integer :: n_own = 0                   !< particles this rank owns (1 .. n_own); n on one rank
       integer :: n_id = 0                    !< largest id handed out
       logical :: history = .true.            !< the Verlet integrator's fields (vm1, rhom1) are held
+      logical :: mdbc = .false.              !< the modified dynamic boundary's fields (gof, gob) are held
       real(rp), allocatable :: x(:, :)       !< position [m]
       real(rp), allocatable :: v(:, :)       !< velocity [m/s]
       real(rp), allocatable :: rho(:)        !< density [kg/m3]
@@ -41,6 +45,8 @@ module particles
       real(rp), allocatable :: nb(:, :)      !< body-frame outward normal of a body particle
       real(rp), allocatable :: vm1(:, :)     !< Verlet: velocity one step back
       real(rp), allocatable :: rhom1(:)      !< Verlet: density one step back
+      real(rp), allocatable :: gof(:, :)     !< mDBC: from a solid particle to its ghost point (0: none) [m]
+      real(rp), allocatable :: gob(:, :)     !< mDBC: gof in the reference (walls) or body frame (bodies) [m]
       integer, allocatable :: surf(:)        !< 0 inside a solid, 1 on a flat face, 2 at a corner or curve
       integer, allocatable :: kind(:)        !< kind_fluid, kind_fixed, kind_moving, kind_floating
       integer, allocatable :: body(:)        !< object (body) number, 0 for fluid
@@ -54,27 +60,31 @@ module particles
       integer :: ncomp                       !< components: ndim for a vector, 1 for a scalar
       logical :: int                         !< an integer field
       logical :: halo                        !< the halo copies carry it
-      logical :: history                     !< held only with the Verlet integrator
+      integer :: group                       !< held in every run (grp_all), with Verlet, with mDBC
       integer :: standin                     !< a field that is off is written as this one (0: none)
    end type field_t
 
-   integer, parameter :: nfield = 14
+   !> which runs hold a field
+   integer, parameter :: grp_all = 0, grp_verlet = 1, grp_mdbc = 2
+   integer, parameter :: nfield = 16
    !> The fields, reals first; the order is that of the checkpoint's checksum.
    type(field_t), parameter :: fields(nfield) = [ &
-                               field_t('x', 'position', ndim, .false., .true., .false., 0), &
-                               field_t('v', 'velocity', ndim, .false., .true., .false., 0), &
-                               field_t('rho', 'density', 1, .false., .true., .false., 0), &
-                               field_t('p', 'pressure', 1, .false., .false., .false., 0), &
-                               field_t('mass', 'mass', 1, .false., .true., .false., 0), &
-                               field_t('nrm', '', ndim, .false., .true., .false., 0), &
-                               field_t('xb', '', ndim, .false., .true., .false., 0), &
-                               field_t('nb', '', ndim, .false., .true., .false., 0), &
-                               field_t('vm1', '', ndim, .false., .false., .true., 2), &
-                               field_t('rhom1', '', 1, .false., .false., .true., 3), &
-                               field_t('surf', '', 1, .true., .true., .false., 0), &
-                               field_t('kind', 'kind', 1, .true., .true., .false., 0), &
-                               field_t('body', 'body', 1, .true., .true., .false., 0), &
-                               field_t('id', 'id', 1, .true., .true., .false., 0)]
+                               field_t('x', 'position', ndim, .false., .true., grp_all, 0), &
+                               field_t('v', 'velocity', ndim, .false., .true., grp_all, 0), &
+                               field_t('rho', 'density', 1, .false., .true., grp_all, 0), &
+                               field_t('p', 'pressure', 1, .false., .false., grp_all, 0), &
+                               field_t('mass', 'mass', 1, .false., .true., grp_all, 0), &
+                               field_t('nrm', '', ndim, .false., .true., grp_all, 0), &
+                               field_t('xb', '', ndim, .false., .true., grp_all, 0), &
+                               field_t('nb', '', ndim, .false., .true., grp_all, 0), &
+                               field_t('vm1', '', ndim, .false., .false., grp_verlet, 2), &
+                               field_t('rhom1', '', 1, .false., .false., grp_verlet, 3), &
+                               field_t('gof', 'ghost', ndim, .false., .true., grp_mdbc, 0), &
+                               field_t('gob', '', ndim, .false., .true., grp_mdbc, 0), &
+                               field_t('surf', '', 1, .true., .true., grp_all, 0), &
+                               field_t('kind', 'kind', 1, .true., .true., grp_all, 0), &
+                               field_t('body', 'body', 1, .true., .true., grp_all, 0), &
+                               field_t('id', 'id', 1, .true., .true., grp_all, 0)]
 
    integer, parameter :: act_none = 0, act_alloc = 1, act_grow = 2
 
@@ -116,20 +126,27 @@ contains
       case (8); call real2(p%nb, a, m, kp); r => p%nb
       case (9); call real2(p%vm1, a, m, kp); r => p%vm1
       case (10); call real1(p%rhom1, a, m, kp); r(1:1, 1:size(p%rhom1)) => p%rhom1
-      case (11); call int1(p%surf, a, m, kp); iv => p%surf
-      case (12); call int1(p%kind, a, m, kp); iv => p%kind
-      case (13); call int1(p%body, a, m, kp); iv => p%body
-      case (14); call int1(p%id, a, m, kp); iv => p%id
+      case (11); call real2(p%gof, a, m, kp); r => p%gof
+      case (12); call real2(p%gob, a, m, kp); r => p%gob
+      case (13); call int1(p%surf, a, m, kp); iv => p%surf
+      case (14); call int1(p%kind, a, m, kp); iv => p%kind
+      case (15); call int1(p%body, a, m, kp); iv => p%body
+      case (16); call int1(p%id, a, m, kp); iv => p%id
       case default
          call fatal('particles_field: no such field (internal error)')
       end select
    end subroutine field_slot
 
-   !> Whether the store holds field k (a field of the Verlet integrator only with it).
+   !> Whether the store holds field k (a field of the Verlet integrator or of
+   !> the modified dynamic boundary only with it).
    pure logical function field_on(p, k)
       type(particles_t), intent(in) :: p
       integer, intent(in) :: k
-      field_on = p%history .or. .not. fields(k)%history
+      select case (fields(k)%group)
+      case (grp_verlet); field_on = p%history
+      case (grp_mdbc); field_on = p%mdbc
+      case default; field_on = .true.
+      end select
    end function field_on
 
    !> Values per particle of the fields that are on (halo_only: those the halo carries).

@@ -11,7 +11,7 @@ module run_setup
    use input_check, only: int_str, real_str, approx_str
    use particles, only: particles_t, particles_count_kind, particles_permute
    use params, only: params_t, visc_artificial, diff_none, kgc_gradient, kgc_shepard, integ_verlet, &
-                     bnd_repulsive
+                     bnd_repulsive, bnd_mdbc
    use scene, only: scene_build, scene_bodies, scene_no_fluid, scene_estimate, scene_params, scene_gauges, &
                     scene_damping, scene_contact, scene_run, scene_porous, scene_walls
    use sys_limits, only: sys_memory_left
@@ -79,6 +79,7 @@ contains
             call checkpoint_check(c%file, r%out, c%numerics%dp, size(r%bodies), made%n)
          end block
          r%p%history = c%numerics%integrator_id == integ_verlet
+         r%p%mdbc = c%numerics%boundary_id == bnd_mdbc
          call checkpoint_read(c%file, r%out, r%p, r%st, r%bodies, counts, edges, mem)
          call scene_params(c, r%st%y_surface - r%st%h_swl, r%st%y_surface, r%prm)
          call log_line("MBSPH: restart of case '"//trim(c%run%case_name)//"' from "//r%out// &
@@ -173,6 +174,9 @@ contains
       type(case_cfg), intent(in) :: c
       integer :: nr, ncx
       nr = comm_size()
+      ! a ghost point's neighbours reach past the one halo column (doc/mdbc.md)
+      if (nr > 1 .and. c%numerics%boundary_id == bnd_mdbc) call input_error(c%file, 'numerics', 'boundary', &
+         "'mdbc' runs on one rank only so far (started on "//int_str(nr)//"): run it without mpirun, or use 'dynamic'")
       if (nr == 1) return
       ! counted, not allocated: the grid itself comes after the size check
       ncx = grid_columns(c%domain%xmin, c%domain%xmax, c%numerics%h_over_dp*c%numerics%dp)

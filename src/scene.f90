@@ -8,7 +8,7 @@ module scene
    use body_shapes, only: body_outline, body_mass_properties, body_particles
    use body_dynamics, only: body_t
    use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, role_filter, wall_fixed, &
-                      integ_verlet
+                      integ_verlet, bnd_mdbc
    use input_geometry, only: geom_object
    use particles, only: particles_t, particles_grow, particles_fit
    use params, only: params_t
@@ -20,6 +20,7 @@ module scene
    use eos, only: eos_density_at_depth
    use geom, only: point_in_polygon, nearest_edge_normal, distance_to_polygon, polygon_area
    use porous, only: porous_t, porous_point, porous_lookup, n_por
+   use scene_ghosts, only: scene_ghost_offsets
    use bc_motion, only: wall_motion_t
    use errors, only: fatal, alloc_check
    implicit none
@@ -53,6 +54,8 @@ contains
       p%n_id = 0
       ! the Verlet integrator's history fields only where it runs
       p%history = c%numerics%integrator_id == integ_verlet
+      ! the ghost offsets of the modified dynamic boundary only where it runs
+      p%mdbc = c%numerics%boundary_id == bnd_mdbc
       ! bodies displace the fluid: their outlines are holes in every fluid fill
       allocate (holes(size(c%bodies)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'holes in scene_build')
@@ -100,6 +103,7 @@ contains
       end do
       p%n_id = p%n
       p%n_own = p%n
+      call scene_ghost_offsets(c, p, bodies, prm%h)
       call particles_fit(p)
       if (p%n == 0) call fatal(trim(c%file)//': the case makes no particles (add &box, &polygon or &slope groups)', 2)
       if (nf == 0) call no_fluid(c, p, bodies)
@@ -529,6 +533,7 @@ contains
       prm%integrator = c%numerics%integrator_id
       prm%verlet_every = c%numerics%verlet_every
       prm%boundary = c%numerics%boundary_id
+      prm%slip = c%numerics%slip_id
       prm%porous = size(c%porous) > 0
       prm%rep_a = (10.0_rp/c%fluid%coef)**2*0.01_rp*prm%c0**2/prm%h
       prm%rep_b = (10.0_rp/c%fluid%coef)*prm%c0/prm%h

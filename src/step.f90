@@ -8,10 +8,12 @@
 module step
    use kinds, only: rp
    use constants, only: kind_fluid, kind_moving
-   use params, only: params_t, integ_symplectic, integ_predictor_corrector, integ_verlet, visc_laminar_sps, kgc_gradient
+   use params, only: params_t, integ_symplectic, integ_predictor_corrector, integ_verlet, visc_laminar_sps, kgc_gradient, &
+                     bnd_mdbc
    use grid, only: grid_t
    use particles, only: particles_t
-   use fluid_forces, only: forces_work_t, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last
+   use fluid_forces, only: forces_work_t, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last, forces_ensure
+   use bc_mdbc, only: mdbc_update, mdbc_rates
    use bc_motion, only: walls_t, motion_apply
    use timers, only: timer_start, timer_stop, t_pairs, t_integrate, t_bodies
    use body_dynamics, only: body_t, bodies_place, bodies_fluid_forces, bodies_save, bodies_predict, &
@@ -132,6 +134,11 @@ contains
       type(contact_t), intent(inout) :: ct
       real(rp), allocatable :: sums(:), mine(:), all(:)
       call timer_start(t_pairs)
+      if (prm%boundary == bnd_mdbc) then
+         ! the solids' densities (and slip velocities) from the water at their ghost points
+         call forces_ensure(w, size(p%rho), prm)
+         call mdbc_update(prm, g, p, w%vol, w%vb)
+      end if
       call forces_prepare(prm, por, p, w)
       call forces_sweep(prm, g, p, w)
       if (prm%kgc == kgc_gradient .or. prm%visc == visc_laminar_sps) then
@@ -161,6 +168,7 @@ contains
       ! the pairs' share of the halo particles, to their owners
       call comm_halo_reverse(halo, w%acc, p%n_own)
       call comm_halo_reverse(halo, w%drho, p%n_own)
+      if (prm%boundary == bnd_mdbc) call mdbc_rates(p%n_own, p%kind, w%drho)
       ! the pore water's acceleration needs the whole pair sums
       if (por%on) call porous_accel(p%n_own, p%kind, w%por, p%v, w%acc, w%drho)
       if (size(bodies) == 0) return

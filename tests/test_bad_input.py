@@ -154,7 +154,9 @@ CASES: dict[str, Bad] = {
     "diffusion_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, diffusion = 'fast'"), "numerics", "diffusion",
                              choices=("none", "molteni", "fourtakas")),
     "boundary_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'soft'"), "numerics", "boundary",
-                            choices=("dynamic", "repulsive")),
+                            choices=("dynamic", "repulsive", "mdbc")),
+    "mdbc_slip_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'mdbc', mdbc_slip = 'sticky'"), "numerics",
+                             "mdbc_slip", choices=("wall", "noslip", "freeslip")),
     "kernel_correction_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, kernel_correction = 'full'"), "numerics",
                                      "kernel_correction", choices=("none", "gradient", "shepard")),
     "verlet_every_zero": Bad(edit("cfl = 0.2", "cfl = 0.2, verlet_every = 0"), "numerics", "verlet_every",
@@ -228,6 +230,16 @@ CASES: dict[str, Bad] = {
     "porous_with_repulsive": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'repulsive', diffusion = 'none'")
                                  + POROUS.format("porosity = 0.4, d50 = 0.05"), "numerics", "boundary",
                                  choices=("dynamic",), words=("porous",)),
+    # the modified dynamic boundary: not yet with the pores' terms, nor with a contact
+    # model that acts through the solids' own density
+    "mdbc_with_porous": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'mdbc'") + POROUS.format("porosity = 0.4, d50 = 0.05"),
+                            "numerics", "boundary", choices=("dynamic",), words=("porous",)),
+    "mdbc_thin_wall": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'mdbc'")
+                          + "&box role = 'solid', xmin = 0.12, xmax = 0.14, ymin = 0.0, ymax = 0.2 /\n",
+                          "numerics", "boundary", choices=("dynamic",), words=("thick", "&box #3")),
+    "mdbc_with_dynamic_contact": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'mdbc'") + BODY.format("density = 500.0")
+                                     + "&contact model = 'dynamic' /\n", "contact", "model",
+                                     choices=("noncohesive_spring", "hertz"), words=("mdbc",)),
     # &slope role = 'filter': one row, a contact model that does not act through the water
     "filter_role_unknown": Bad(BASE + FILTER.format("").replace("'filter'", "'sieve'"), "slope #1", "role",
                                choices=("solid", "filter")),

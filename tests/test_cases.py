@@ -70,10 +70,13 @@ TANK_T_END = math.ceil(T_SETTLE * 10.0) / 10.0
 # The SPH pressure gradient on a particle lattice is not exactly normalised: at the
 # default h/dp = sqrt(2) the settled bed pressure is about 2.2 % high (doc/validation.md).
 # Two ways to remove that error are tested: a wider kernel (h/dp = 2) and the kernel
-# gradient correction at the default h/dp.
+# gradient correction at the default h/dp (with the dynamic and the modified dynamic
+# boundary).
 TANK_VARIANTS = {
     "h_over_dp_2": {"h_over_dp": 2.0},
     "gradient_correction": {"kernel_correction": "gradient"},
+    # the modified dynamic boundary (doc/mdbc.md) with the correction
+    "mdbc_gradient_correction": {"boundary": "mdbc", "kernel_correction": "gradient"},
 }
 
 

@@ -15,7 +15,8 @@ depend on the number of ranks (doc/parallel.md).
 - Load balance: water in the left half of a tank; the two ranks' particle counts end
   within 10 % of each other, while slabs of equal width (balance_every = 0) differ
   far more.
-- A bad input stops both ranks within 10 s with one message and exit code 2.
+- A bad input stops both ranks within 10 s with one message and exit code 2; so does
+  boundary = 'mdbc', which runs on one rank so far.
 """
 
 from __future__ import annotations
@@ -246,6 +247,15 @@ def test_bad_input_stops_every_rank(tmp_path: Path, mbsph: Path) -> None:
     lines = [ln for ln in proc.stderr.splitlines() if "mbsph: error" in ln]
     assert len(lines) == 1, f"expected one message, got {lines}"
     assert "(rank 0)" in lines[0] and "&run: t_end" in lines[0], lines[0]
+
+
+def test_mdbc_refused_on_two_ranks(tmp_path: Path, mbsph: Path) -> None:
+    # a ghost point's neighbours reach past the halo column (doc/mdbc.md): one rank so far
+    proc, _ = run(dambreak("OUT", numerics={"boundary": "mdbc"}), tmp_path, RANKS, mbsph, timeout=60.0)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    lines = [ln for ln in proc.stderr.splitlines() if "mbsph: error" in ln]
+    assert len(lines) == 1 and "&numerics: boundary: 'mdbc' runs on one rank only" in lines[0], lines
+    assert not (tmp_path / "OUT").exists(), "the refused run prepared its output folder"
 
 
 def mpmd(tmp_path: Path, mbsph: Path, parts: list[tuple[Path, str]]):

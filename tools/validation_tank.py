@@ -10,7 +10,8 @@ extrapolated to the bed) as an error against rho0 g H, and the mean fluid speed.
 
 With --boundary repulsive the settings are those the repulsive-force boundary
 accepts (no density diffusion, no kernel correction), with the dynamic boundary
-under the same settings for comparison.
+under the same settings for comparison; with --boundary mdbc those of the modified
+dynamic boundary (doc/mdbc.md).
 """
 from __future__ import annotations
 
@@ -45,6 +46,12 @@ REPULSIVE = {
     "repulsive, h/dp = 2": {"boundary": "repulsive", "diffusion": "none", "h_over_dp": 2.0},
     "dynamic, h/dp = sqrt(2), no diffusion": {"diffusion": "none"},
 }
+MDBC = {
+    "mdbc, h/dp = sqrt(2)": {"boundary": "mdbc"},
+    "mdbc, h/dp = 1.7": {"boundary": "mdbc", "h_over_dp": 1.7},
+    "mdbc, h/dp = sqrt(2), gradient correction": {"boundary": "mdbc", "kernel_correction": "gradient"},
+    "mdbc, h/dp = sqrt(2), no slip": {"boundary": "mdbc", "mdbc_slip": "noslip"},
+}
 
 
 def run(name: str, tmp: Path) -> tuple[str, list[float], float]:
@@ -69,13 +76,16 @@ def run(name: str, tmp: Path) -> tuple[str, list[float], float]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--boundary", choices=["dynamic", "repulsive"], default="dynamic")
+    ap.add_argument("--boundary", choices=["dynamic", "repulsive", "mdbc"], default="dynamic")
     args = ap.parse_args()
     workers = 2
     if args.boundary == "repulsive":
         SETTINGS.clear()
         SETTINGS.update(REPULSIVE)
         workers = 1
+    elif args.boundary == "mdbc":
+        SETTINGS.clear()
+        SETTINGS.update(MDBC)
     with tempfile.TemporaryDirectory() as tmp, ThreadPoolExecutor(max_workers=workers) as pool:
         rows = list(pool.map(lambda n: run(n, Path(tmp)), SETTINGS))
     print(f"{'setting':40s} {'bed error, mean [%]':>20s} {'range [%]':>16s} {'mean speed / sqrt(gH)':>22s}")
