@@ -4,14 +4,15 @@
 !> every solid pushes fluid particles off with the Monaghan-Kos force. The
 !> pair loop is chosen once per run among specialised variants
 !> (fluid_pairs.inc), one per combination of boundary, kernel, viscosity
-!> model, density diffusion and gradient correction.
+!> model, density diffusion, gradient correction, porous regions and
+!> particle shifting.
 module fluid_forces
    use kinds, only: rp
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
    use constants, only: kind_fluid, ndim
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive, bnd_mdbc, &
-                     slip_wall
+                     slip_wall, shift_none
    use grid, only: grid_t, grid_ranges, grid_last_cell
    use particles, only: particles_t
    use eos, only: eos_update, eos_dynamic_density
@@ -47,13 +48,19 @@ module fluid_forces
       !> mDBC with a slip condition: the velocities the pair loop reads, the
       !> water's own and the solids' as the condition makes them (bc_mdbc) [m/s]
       real(rp), allocatable :: vb(:, :)
+      !> particle shifting: the concentration gradient (rows 1 .. ndim) and
+      !> the divergence of position (row ndim + 1) of each particle (shifting)
+      real(rp), allocatable :: sh(:, :)
+      !> this evaluation sums shifting's terms (the step sets it: the sums of the
+      !> step's last evaluation are those it shifts by)
+      logical :: shift_now = .false.
       real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]
       type(nbr_t) :: seg(4)                !< pair lists of the columns in the sweep (forces_sweep)
    end type forces_work_t
 
    abstract interface
       subroutine pairs_iface(n, g, nb, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, nf, &
-                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
+                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, sh, mumax)
          import :: rp, n_rep, grid_t, nbr_t, ndim
          implicit none
          integer, intent(in) :: n
@@ -63,12 +70,13 @@ module fluid_forces
          real(rp), intent(in) :: nrm(ndim, n), nf(:)
          integer, intent(in) :: kind(n), surf(n)
          real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
-         real(rp), intent(inout) :: acc(ndim, n), drho(n)
+         real(rp), intent(inout) :: acc(ndim, n), drho(n), sh(:, :)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_iface
    end interface
 
    procedure(pairs_iface), pointer :: pairs => null()
+   procedure(pairs_iface), pointer :: pairs_shift => null()   !< the same with particle shifting's sums
 
 contains
 
@@ -81,7 +89,7 @@ contains
    !> others a loop over the grid's stencil, which needs no list in memory.
    subroutine forces_init(prm)
       type(params_t), intent(in) :: prm
-      integer :: list, bc, kern, visc, diff, kgc, por, key
+      integer :: list, bc, kern, visc, diff, kgc, por, shift, key
       ! the repulsive boundary runs without density diffusion and gradient
       ! correction (the input refuses them; doc/theory.md says why)
       list = merge(1, 0, needs_list(prm))
@@ -92,16 +100,31 @@ contains
       diff = merge(1, 0, prm%diffusion /= diff_none)
       kgc = merge(1, 0, prm%kgc == kgc_gradient)
       por = merge(1, 0, prm%porous)
+      shift = merge(1, 0, prm%shift /= shift_none)
       ! the key of src/fluid_variants.fypp, whose list of variants makes these cases
-      key = list*1000000 + bc*100000 + kern*10000 + visc*1000 + diff*100 + kgc*10 + por
+      key = list*10000000 + bc*1000000 + kern*100000 + visc*10000 + diff*1000 + kgc*100 + por*10
+      ! with shifting, the loop with its sums for the evaluations whose sums the
+      ! step uses (forces_work_t%shift_now) and the one without for the others
+      if (shift == 1) then
+         call choose(key + 1)
+         pairs_shift => pairs
+      end if
+      call choose(key)
+      if (shift == 0) pairs_shift => pairs
+   end subroutine forces_init
+
+   !> pairs => the variant of src/fluid_variants.fypp with this key.
+   subroutine choose(key)
+      integer, intent(in) :: key
       select case (key)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "fluid_dispatch.inc"
       case default
          call fatal('forces_init: no pair loop for the models of key '//int_str(key)// &
-                    ' (list, boundary, kernel, viscosity, diffusion, correction, porous): add it to src/fluid_variants.fypp')
+                    ' (list, boundary, kernel, viscosity, diffusion, correction, porous, shifting): add it to '// &
+                    'src/fluid_variants.fypp')
       end select
-   end subroutine forces_init
+   end subroutine choose
 
    !> The models that sum over the pairs before the forces, and so share a pair list.
    pure logical function needs_list(prm)
@@ -118,7 +141,7 @@ contains
       character(len=200) :: emsg
       if (allocated(w%acc)) then
          if (size(w%drho) >= nmax) return
-         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%nf, w%mp, w%rp, w%vb)
+         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%nf, w%mp, w%rp, w%vb, w%sh)
       end if
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax), stat=ist, errmsg=emsg)
@@ -153,6 +176,8 @@ contains
       call alloc_check(ist, emsg, 'the porous arrays in forces_ensure')
       allocate (w%vb(ndim, merge(nmax, 1, prm%boundary == bnd_mdbc .and. prm%slip /= slip_wall)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'w%vb in forces_ensure')
+      allocate (w%sh(ndim + 1, merge(nmax, 1, prm%shift /= shift_none)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'w%sh in forces_ensure')
    end subroutine forces_ensure
 
    !> What a force evaluation needs before its pairs: pressure and sound
@@ -212,6 +237,7 @@ contains
       end if
       if (prm%kgc == kgc_gradient) w%lm(:, 1:n) = 0.0_rp
       if (prm%visc == visc_laminar_sps) w%gv(:, 1:n) = 0.0_rp
+      if (prm%shift /= shift_none) w%sh(:, 1:n) = 0.0_rp
       w%acc(:, 1:n) = 0.0_rp
       w%drho(1:n) = 0.0_rp
       w%mumax = 0.0_rp
@@ -354,21 +380,24 @@ contains
       type(forces_work_t), intent(inout) :: w
       type(nbr_t), intent(in) :: nb
       real(rp) :: rep(n_rep)
+      procedure(pairs_iface), pointer :: loop
+      loop => pairs
+      if (w%shift_now) loop => pairs_shift
       ! constants of the repulsive boundary, unused by the dynamic one
       rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
       if (prm%porous) then
-         call pairs(p%n, g, nb, p%x, p%v, w%rp, w%irho, p%p, w%mp, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+         call loop(p%n, g, nb, p%x, p%v, w%rp, w%irho, p%p, w%mp, p%kind, w%cs, w%rhod, w%lm, w%tau, &
                     p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                    prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
+                    prm%kgc_cont, rep, w%acc, w%drho, w%sh, w%mumax)
       else if (prm%boundary == bnd_mdbc .and. prm%slip /= slip_wall) then
          ! the solids' velocities as the slip condition makes them (bc_mdbc)
-         call pairs(p%n, g, nb, p%x, w%vb, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+         call loop(p%n, g, nb, p%x, w%vb, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
                     p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                    prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
+                    prm%kgc_cont, rep, w%acc, w%drho, w%sh, w%mumax)
       else
-         call pairs(p%n, g, nb, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+         call loop(p%n, g, nb, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
                     p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                    prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
+                    prm%kgc_cont, rep, w%acc, w%drho, w%sh, w%mumax)
       end if
    end subroutine pair_rows
 

@@ -24,7 +24,7 @@ module input
    use errors, only: input_error, fatal, alloc_check
    use options, only: role_fluid, role_filter, model_dynamic, wall_wavemaker, wave_regular, wave_file, paddle_piston, &
                       gauge_pressure, &
-                      integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, bnd_mdbc, visc_laminar_sps
+                      integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, bnd_mdbc, visc_laminar_sps, shift_none
    implicit none
    private
    public :: case_cfg, read_case, write_case
@@ -182,6 +182,9 @@ contains
          "use 'artificial' (doc/porous.md)")
       if (c%numerics%boundary_id == bnd_repulsive) call input_error(c%file, 'numerics', 'boundary', &
          "'repulsive' does not work with porous regions (&porous, &breakwater core = 'porous') yet: use 'dynamic'")
+      if (c%numerics%shift_id /= shift_none) call input_error(c%file, 'numerics', 'shifting', &
+         "'"//trim(c%numerics%shifting)//"' does not work with porous regions (&porous, &breakwater core = "// &
+         "'porous') yet: use 'none' (the pore water's lattice is looser by 1/sqrt(n))")
    end subroutine check_porous
 
    !> The breakwater, its armour and the paddle become objects and bodies

@@ -5,7 +5,7 @@ module input_numerics
    use input_check, only: open_case, read_failed, check_real, check_int, group_count
    use options, only: option_index, kernel_names, integ_names, visc_names, bnd_names, diff_names, kgc_names, &
                       kernel_wendland, integ_symplectic, visc_artificial, bnd_dynamic, bnd_repulsive, diff_none, &
-                      diff_fourtakas, kgc_none, kgc_gradient, slip_names, slip_wall
+                      diff_fourtakas, kgc_none, kgc_gradient, slip_names, slip_wall, shift_names, shift_none
    use errors, only: input_error
    implicit none
    private
@@ -32,17 +32,22 @@ module input_numerics
       logical :: kgc_continuity = .true.                 !< the gradient correction also in the continuity equation
       character(len=name_len) :: boundary = 'dynamic'    !< fluid on solids: 'dynamic' | 'repulsive' | 'mdbc'
       character(len=name_len) :: mdbc_slip = 'wall'      !< mDBC: velocity of the solid particles: 'wall' | 'noslip' | 'freeslip'
+      character(len=name_len) :: shifting = 'none'       !< particle shifting: 'none' | 'fickian'
+      real(rp) :: shift_coef = 2.0_rp                    !< shifting: A of D = A h |v| dt [-]
+      real(rp) :: shift_tfs = 1.5_rp                     !< shifting: div r below it marks the free surface [-]
       ! the choices as their values in options, set where they are read
       integer :: kernel_id = kernel_wendland, integrator_id = integ_symplectic, viscosity_id = visc_artificial
       integer :: diffusion_id = diff_fourtakas, kgc_id = kgc_none, boundary_id = bnd_dynamic, slip_id = slip_wall
+      integer :: shift_id = shift_none
    end type numerics_cfg
 
-   real(rp) :: dp, h_over_dp, cfl, dt_fixed, alpha, nu, cs_sps, ci_sps, delta
-   character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction, boundary, mdbc_slip
+   real(rp) :: dp, h_over_dp, cfl, dt_fixed, alpha, nu, cs_sps, ci_sps, delta, shift_coef, shift_tfs
+   character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction, boundary, mdbc_slip, shifting
    integer :: verlet_every, shepard_every
    logical :: kgc_continuity
    namelist /numerics/ dp, h_over_dp, kernel, cfl, dt_fixed, integrator, verlet_every, viscosity, alpha, &
-      nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every, kgc_continuity, boundary, mdbc_slip
+      nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every, kgc_continuity, boundary, mdbc_slip, &
+      shifting, shift_coef, shift_tfs
 
 contains
 
@@ -53,7 +58,7 @@ contains
       alpha = c%alpha; nu = c%nu; cs_sps = c%cs_sps; ci_sps = c%ci_sps
       diffusion = c%diffusion; delta = c%delta; kernel_correction = c%kernel_correction
       shepard_every = c%shepard_every; boundary = c%boundary; kgc_continuity = c%kgc_continuity
-      mdbc_slip = c%mdbc_slip
+      mdbc_slip = c%mdbc_slip; shifting = c%shifting; shift_coef = c%shift_coef; shift_tfs = c%shift_tfs
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -63,7 +68,7 @@ contains
       c%alpha = alpha; c%nu = nu; c%cs_sps = cs_sps; c%ci_sps = ci_sps
       c%diffusion = diffusion; c%delta = delta; c%kernel_correction = kernel_correction
       c%shepard_every = shepard_every; c%boundary = boundary; c%kgc_continuity = kgc_continuity
-      c%mdbc_slip = mdbc_slip
+      c%mdbc_slip = mdbc_slip; c%shifting = shifting; c%shift_coef = shift_coef; c%shift_tfs = shift_tfs
    end subroutine from_vars
 
    subroutine read_numerics(file, c)
@@ -120,6 +125,15 @@ contains
       ! pressure does not give (doc/theory.md)
       if (c%boundary_id == bnd_repulsive .and. c%kgc_id /= kgc_none) call input_error(file, 'numerics', &
          'kernel_correction', "must be 'none' with boundary = 'repulsive' (got '"//trim(c%kernel_correction)//"')")
+      c%shift_id = option_index(file, 'numerics', 'shifting', c%shifting, shift_names)
+      c%shifting = shift_names(c%shift_id)
+      call check_real(file, 'numerics', 'shift_coef', c%shift_coef, 0.0_rp, 10.0_rp)
+      call check_real(file, 'numerics', 'shift_tfs', c%shift_tfs, 0.0_rp, 3.0_rp)
+      ! the concentration gradient needs the walls' particles in the water's
+      ! pair terms, which the repulsive boundary leaves out (it would push the
+      ! water into the walls)
+      if (c%boundary_id == bnd_repulsive .and. c%shift_id /= shift_none) call input_error(file, 'numerics', &
+         'shifting', "must be 'none' with boundary = 'repulsive' (got '"//trim(c%shifting)//"')")
    end subroutine read_numerics
 
    subroutine write_numerics(u, c)

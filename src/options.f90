@@ -18,6 +18,7 @@ module options
    public :: integ_names, integ_symplectic, integ_predictor_corrector, integ_verlet
    public :: bnd_names, bnd_dynamic, bnd_repulsive, bnd_mdbc
    public :: slip_names, slip_wall, slip_noslip, slip_freeslip
+   public :: shift_names, shift_none, shift_fickian
    public :: contact_names, model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
    public :: role_names, role_solid, role_fluid, role_filter
    public :: wall_motion_names, wall_fixed, wall_oscillate, wall_wavemaker
@@ -51,6 +52,9 @@ module options
    !> &numerics mdbc_slip: the velocity the water sees at an mDBC solid particle
    character(len=name_len), parameter :: slip_names(*) = [character(len=name_len) :: 'wall', 'noslip', 'freeslip']
    integer, parameter :: slip_wall = 1, slip_noslip = 2, slip_freeslip = 3
+   !> &numerics shifting: particle shifting
+   character(len=name_len), parameter :: shift_names(*) = [character(len=name_len) :: 'none', 'fickian']
+   integer, parameter :: shift_none = 1, shift_fickian = 2
    !> &contact model
    character(len=name_len), parameter :: contact_names(*) = [character(len=name_len) :: 'dynamic', 'repulsive', &
                                                              'noncohesive', 'noncohesive_spring', 'hertz']

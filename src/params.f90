@@ -6,13 +6,14 @@ module params
    use options, only: kernel_wendland, visc_artificial, visc_laminar_sps, &
                       diff_none, diff_molteni, diff_fourtakas, kgc_none, kgc_gradient, &
                       kgc_shepard, integ_symplectic, integ_predictor_corrector, integ_verlet, &
-                      bnd_dynamic, bnd_repulsive, bnd_mdbc, slip_wall, slip_noslip, slip_freeslip
+                      bnd_dynamic, bnd_repulsive, bnd_mdbc, slip_wall, slip_noslip, slip_freeslip, &
+                      shift_none, shift_fickian
    implicit none
    private
    public :: params_t, visc_artificial, visc_laminar_sps, diff_none, diff_molteni, &
              diff_fourtakas, kgc_none, kgc_gradient, kgc_shepard, integ_symplectic, &
              integ_predictor_corrector, integ_verlet, bnd_dynamic, bnd_repulsive, bnd_mdbc, &
-             slip_wall, slip_noslip, slip_freeslip
+             slip_wall, slip_noslip, slip_freeslip, shift_none, shift_fickian
 
    ! the enumerated values of the model choices are those of module options,
    ! whose option_index turns the names into them where the input is read;
@@ -41,6 +42,9 @@ module params
       integer :: verlet_every
       integer :: boundary = bnd_dynamic    !< how the fluid meets solids
       integer :: slip = slip_wall          !< mDBC: the velocity the water sees at a solid particle
+      integer :: shift = shift_none        !< particle shifting
+      real(rp) :: shift_coef = 2.0_rp      !< A of the shifting's D = A h |v| dt [-]
+      real(rp) :: shift_tfs = 1.5_rp       !< div r below it: a free-surface particle, not shifted [-]
       logical :: porous = .false.          !< the scene has porous regions (module porous)
       ! repulsive boundary (doc/theory.md): A = rep_a - rep_b u_n
       real(rp) :: rep_a = 0.0_rp           !< (10/coef)^2 0.01 c0^2 / h [m/s2]

@@ -534,6 +534,9 @@ contains
       prm%verlet_every = c%numerics%verlet_every
       prm%boundary = c%numerics%boundary_id
       prm%slip = c%numerics%slip_id
+      prm%shift = c%numerics%shift_id
+      prm%shift_coef = c%numerics%shift_coef
+      prm%shift_tfs = c%numerics%shift_tfs
       prm%porous = size(c%porous) > 0
       prm%rep_a = (10.0_rp/c%fluid%coef)**2*0.01_rp*prm%c0**2/prm%h
       prm%rep_b = (10.0_rp/c%fluid%coef)*prm%c0/prm%h

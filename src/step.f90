@@ -9,11 +9,12 @@ module step
    use kinds, only: rp
    use constants, only: kind_fluid, kind_moving
    use params, only: params_t, integ_symplectic, integ_predictor_corrector, integ_verlet, visc_laminar_sps, kgc_gradient, &
-                     bnd_mdbc
+                     bnd_mdbc, shift_none
    use grid, only: grid_t
    use particles, only: particles_t
    use fluid_forces, only: forces_work_t, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last, forces_ensure
    use bc_mdbc, only: mdbc_update, mdbc_rates
+   use shifting, only: shifting_apply
    use bc_motion, only: walls_t, motion_apply
    use timers, only: timer_start, timer_stop, t_pairs, t_integrate, t_bodies
    use body_dynamics, only: body_t, bodies_place, bodies_fluid_forces, bodies_save, bodies_predict, &
@@ -168,6 +169,7 @@ contains
       ! the pairs' share of the halo particles, to their owners
       call comm_halo_reverse(halo, w%acc, p%n_own)
       call comm_halo_reverse(halo, w%drho, p%n_own)
+      if (w%shift_now) call comm_halo_reverse(halo, w%sh, p%n_own)
       if (prm%boundary == bnd_mdbc) call mdbc_rates(p%n_own, p%kind, w%drho)
       ! the pore water's acceleration needs the whole pair sums
       if (por%on) call porous_accel(p%n_own, p%kind, w%por, p%v, w%acc, w%drho)
@@ -267,6 +269,8 @@ contains
       real(rp) :: hdt, eps, lim, lim_cfl
       logical :: symplectic
       symplectic = prm%integrator /= integ_predictor_corrector
+      ! particle shifting takes the sums of the step's middle only
+      w%shift_now = .false.
       call evaluate(prm, por, g, p, halo, w, bodies, ct)
       call first_stage(prm, p, w, ss, bodies, ct, istep, dt)
       if (dt > ss%dt_limit) return
@@ -292,6 +296,7 @@ contains
       end if
       call timer_stop(t_integrate)
       call comm_halo_refresh(halo, p)
+      w%shift_now = prm%shift /= shift_none
       call evaluate(prm, por, g, p, halo, w, bodies, ct)
       ! the step against the limits of the state at its middle
       lim = stage_dt(prm, p, w, bodies, ct, lim_cfl)
@@ -320,6 +325,8 @@ contains
             end if
          end do
       end if
+      ! particle shifting from the sums of the step's middle
+      if (prm%shift /= shift_none) call shifting_apply(prm, p, w%sh, dt)
       if (walls%moving) call motion_apply(walls, p, t + dt)
       if (size(bodies) > 0) then
          if (symplectic) then
@@ -353,6 +360,7 @@ contains
       integer :: i
       real(rp) :: vnew(2), rnew, dt2, hdt2
       logical :: euler
+      w%shift_now = prm%shift /= shift_none
       call evaluate(prm, por, g, p, halo, w, bodies, ct)
       call first_stage(prm, p, w, ss, bodies, ct, istep, dt)
       if (dt > ss%dt_limit) return
@@ -381,6 +389,7 @@ contains
             p%rho(i) = max(rnew, prm%rho0)
          end if
       end do
+      if (prm%shift /= shift_none) call shifting_apply(prm, p, w%sh, dt)
       if (walls%moving) call motion_apply(walls, p, t + dt)
       if (size(bodies) > 0) then
          call bodies_verlet(bodies, ct%damp, dt)

@@ -155,6 +155,12 @@ CASES: dict[str, Bad] = {
                              choices=("none", "molteni", "fourtakas")),
     "boundary_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'soft'"), "numerics", "boundary",
                             choices=("dynamic", "repulsive", "mdbc")),
+    "shifting_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, shifting = 'lind'"), "numerics", "shifting",
+                            choices=("none", "fickian")),
+    "shift_coef_20": Bad(edit("cfl = 0.2", "cfl = 0.2, shifting = 'fickian', shift_coef = 20.0"), "numerics",
+                         "shift_coef", range=(0.0, 10.0)),
+    "shifting_with_repulsive": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'repulsive', diffusion = 'none', "
+                                        "shifting = 'fickian'"), "numerics", "shifting", choices=("none",)),
     "mdbc_slip_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'mdbc', mdbc_slip = 'sticky'"), "numerics",
                              "mdbc_slip", choices=("wall", "noslip", "freeslip")),
     "kernel_correction_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, kernel_correction = 'full'"), "numerics",
@@ -230,6 +236,9 @@ CASES: dict[str, Bad] = {
     "porous_with_repulsive": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'repulsive', diffusion = 'none'")
                                  + POROUS.format("porosity = 0.4, d50 = 0.05"), "numerics", "boundary",
                                  choices=("dynamic",), words=("porous",)),
+    "porous_with_shifting": Bad(edit("cfl = 0.2", "cfl = 0.2, shifting = 'fickian'")
+                                + POROUS.format("porosity = 0.4, d50 = 0.05"), "numerics", "shifting",
+                                choices=("none",), words=("porous",)),
     # the modified dynamic boundary: not yet with the pores' terms, nor with a contact
     # model that acts through the solids' own density
     "mdbc_with_porous": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'mdbc'") + POROUS.format("porosity = 0.4, d50 = 0.05"),

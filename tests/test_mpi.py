@@ -139,6 +139,9 @@ MODELS = {
     "verlet": {"integrator": "verlet"},
     "predictor_corrector": {"integrator": "predictor_corrector", "diffusion": "molteni"},
     "repulsive_boundary": {"boundary": "repulsive", "diffusion": "none"},
+    # particle shifting: the halo's share of its sums goes to the owners
+    "shifting": {"shifting": "fickian"},
+    "shifting_verlet": {"shifting": "fickian", "integrator": "verlet"},
 }
 
 
