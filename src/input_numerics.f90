@@ -34,7 +34,7 @@ module input_numerics
       character(len=name_len) :: mdbc_slip = 'wall'      !< mDBC: velocity of the solid particles: 'wall' | 'noslip' | 'freeslip'
       character(len=name_len) :: shifting = 'none'       !< particle shifting: 'none' | 'fickian'
       real(rp) :: shift_coef = 2.0_rp                    !< shifting: A of D = A h |v| dt [-]
-      real(rp) :: shift_tfs = 1.5_rp                     !< shifting: div r below it marks the free surface [-]
+      real(rp) :: shift_tfs = 1.9_rp                     !< shifting: div r below it: the surface band, not shifted [-]
       ! the choices as their values in options, set where they are read
       integer :: kernel_id = kernel_wendland, integrator_id = integ_symplectic, viscosity_id = visc_artificial
       integer :: diffusion_id = diff_fourtakas, kgc_id = kgc_none, boundary_id = bnd_dynamic, slip_id = slip_wall

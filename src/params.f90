@@ -44,7 +44,7 @@ module params
       integer :: slip = slip_wall          !< mDBC: the velocity the water sees at a solid particle
       integer :: shift = shift_none        !< particle shifting
       real(rp) :: shift_coef = 2.0_rp      !< A of the shifting's D = A h |v| dt [-]
-      real(rp) :: shift_tfs = 1.5_rp       !< div r below it: a free-surface particle, not shifted [-]
+      real(rp) :: shift_tfs = 1.9_rp       !< div r below it: in the free surface's band, not shifted [-]
       logical :: porous = .false.          !< the scene has porous regions (module porous)
       ! repulsive boundary (doc/theory.md): A = rep_a - rep_b u_n
       real(rp) :: rep_a = 0.0_rp           !< (10/coef)^2 0.01 c0^2 / h [m/s2]

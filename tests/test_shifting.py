@@ -4,7 +4,7 @@ T = t sqrt(2g/a) = 3.2):
 
 - the particle arrangement stays more even: the share of fluid particles whose nearest
   neighbour is closer than 0.7 dp (clumps that the flow's shear packs together), in the
-  mean over the outputs from T = 1 on, falls by a fifth at least;
+  mean over the outputs from T = 1 on, falls by a fifth at least (measured: by half);
 - the surge front keeps Martin and Moyce's speed within the dam break's 5 % bar and its
   lead within 0.4 a (test_cases.py says why those bars);
 - a free-surface particle is not shifted: in still water shifting moves nothing (the

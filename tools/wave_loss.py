@@ -4,7 +4,7 @@ analysis (doc/waves.md, "Where the height goes").
 
     .venv/bin/python tools/wave_loss.py run NAME --kh 1.2 --n 15 [--steepness 0.03]
         [--viscosity laminar_sps | --alpha 0.005] [--paddle flap] [--second-order]
-        [--dt-out T_FRACTION] [--t-end S] [--x-max 4] [--plain-continuity] [--dry-run]
+        [--dt-out T_FRACTION] [--t-end S] [--x-max 4] [--plain-continuity] [--numerics "..."] [--dry-run]
     .venv/bin/python tools/wave_loss.py heights NAME     # per gauge, last three periods, and the fit below
     .venv/bin/python tools/wave_loss.py history NAME     # per gauge, two-period windows through the run
     .venv/bin/python tools/wave_loss.py drift NAME       # mean (Lagrangian) drift in front of the paddle
@@ -58,6 +58,8 @@ def cmd_run(a: argparse.Namespace) -> None:
     visc = (f"  viscosity = 'laminar_sps'" if a.viscosity == "laminar_sps"
             else f"  viscosity = 'artificial', alpha = {a.alpha}")
     numerics = "  kernel_correction = 'gradient'" + ("\n  kgc_continuity = .false." if a.plain_continuity else "")
+    if a.numerics:
+        numerics += "\n  " + a.numerics
     f = flume_case(a.kh, depth=DEPTH, dp=DEPTH / a.n, steepness=a.steepness, paddle=a.paddle,
                    out_dir=str(DIR / a.name), gauges_at=gauge_positions(a.x_max), extra_numerics=numerics,
                    case_name=a.name, second_order=a.second_order, t_end=a.t_end, h_over_dp=a.h_over_dp,
@@ -264,6 +266,7 @@ def main() -> None:
     r.add_argument("--x-max", type=float, default=3.0, help="farthest gauge in wavelengths (default 3)")
     r.add_argument("--plain-continuity", action="store_true",
                    help="kgc_continuity = .false.: the plain kernel gradient in the continuity equation")
+    r.add_argument("--numerics", default="", help="more &numerics settings, e.g. \"boundary = 'mdbc', shifting = 'fickian'\"")
     r.add_argument("--dry-run", action="store_true", help="write the case only")
     for c in ("heights", "history", "drift", "surface", "paddle"):
         sub.add_parser(c).add_argument("name")
