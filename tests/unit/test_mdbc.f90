@@ -15,7 +15,7 @@ program test_mdbc
    use params, only: params_t, slip_wall, slip_noslip, slip_freeslip
    use kernel, only: kernel_wendland, kernel_cubic, kernel_norm
    use bc_mdbc, only: mdbc_update, mdbc_solve
-   use testing, only: check, check_close, test_summary
+   use testing, only: check, check_close, test_summary, random_seed_fixed
    implicit none
    integer, parameter :: nx = 30, ny = 20, nwall = 3*nx, nextra = 2
    real(rp), parameter :: dp = 0.01_rp, rho0 = 1000.0_rp
@@ -228,12 +228,4 @@ contains
       write (s, '(es12.3)') x
    end function real_text
 
-   subroutine random_seed_fixed()
-      integer :: sz
-      integer, allocatable :: seed(:)
-      call random_seed(size=sz)
-      allocate (seed(sz))
-      seed = 12345
-      call random_seed(put=seed)
-   end subroutine random_seed_fixed
 end program test_mdbc

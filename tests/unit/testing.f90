@@ -5,7 +5,7 @@ module testing
    use, intrinsic :: iso_fortran_env, only: real64
    implicit none
    private
-   public :: check, check_close, test_summary
+   public :: check, check_close, test_summary, random_seed_fixed
 
    integer :: n_pass = 0, n_fail = 0
 
@@ -43,4 +43,14 @@ contains
       write (*, '(a,": ",i0," passed, ",i0," failed")') suite, n_pass, n_fail
       if (n_fail > 0) error stop 1
    end subroutine test_summary
+
+   !> The same random numbers in every run of a test.
+   subroutine random_seed_fixed()
+      integer :: m
+      integer, allocatable :: seed(:)
+      call random_seed(size=m)
+      allocate (seed(m))
+      seed = 12345
+      call random_seed(put=seed)
+   end subroutine random_seed_fixed
 end module testing
