@@ -69,24 +69,7 @@ contains
       end if
    end subroutine mdbc_update
 
-#define GHOSTS_NAME ghosts_wendland
-#define KERN 1
-#define SLIP 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "mdbc_ghosts.inc"
-#define GHOSTS_NAME ghosts_cubic
-#define KERN 2
-#define SLIP 0
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "mdbc_ghosts.inc"
-#define GHOSTS_NAME ghosts_wendland_v
-#define KERN 1
-#define SLIP 1
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "mdbc_ghosts.inc"
-#define GHOSTS_NAME ghosts_cubic_v
-#define KERN 2
-#define SLIP 1
+! the four routines of the ghost points' sums, generated from src/mdbc_ghosts.fypp
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "mdbc_ghosts.inc"
 

@@ -237,7 +237,7 @@ contains
       end if
       if (prm%kgc == kgc_gradient) w%lm(:, 1:n) = 0.0_rp
       if (prm%visc == visc_laminar_sps) w%gv(:, 1:n) = 0.0_rp
-      if (prm%shift /= shift_none) w%sh(:, 1:n) = 0.0_rp
+      if (w%shift_now) w%sh(:, 1:n) = 0.0_rp        ! only the evaluation whose sums the step uses
       w%acc(:, 1:n) = 0.0_rp
       w%drho(1:n) = 0.0_rp
       w%mumax = 0.0_rp

@@ -30,6 +30,15 @@ module scene_ghosts
       real(rp) :: a(2), b(2), n(2)
    end type face_t
 
+   !> The fluid particles binned in square cells, for the nearest one to a
+   !> point: cell (ix, iy) holds idx(start(c) : start(c + 1) - 1), c = ix +
+   !> (iy - 1) nx, in increasing particle order.
+   type :: bins_t
+      real(rp) :: x0(2) = 0.0_rp, cs = 1.0_rp
+      integer :: nx = 0, ny = 0
+      integer, allocatable :: start(:), idx(:)
+   end type bins_t
+
 contains
 
    !> gof and gob (equal at the start) of every particle of p; h the smoothing length.
@@ -39,12 +48,14 @@ contains
       type(body_t), intent(in) :: bodies(:)
       real(rp), intent(in) :: h
       type(face_t), allocatable :: faces(:)
+      type(bins_t) :: bins
       integer :: i, b, nobj
       real(rp) :: u(2), q(2)
       logical :: found
       if (.not. p%mdbc) return
       nobj = size(c%objs)
       call exposed_faces(c, faces)
+      call bin_fluid(p, 2.0_rp*h, bins)
       do i = 1, p%n
          p%gof(:, i) = 0.0_rp
          if (p%kind(i) == kind_fluid .or. p%kind(i) == kind_filter) cycle
@@ -57,7 +68,7 @@ contains
             ! too deep for any water to see it: no ghost (and no search)
             q = nearest_on_faces(p%x(:, i), [0.0_rp, 0.0_rp], faces, found)
             if (.not. found .or. norm2(q - p%x(:, i)) >= 2.0_rp*h) cycle
-            call toward_water(p, i, u, found)
+            call toward_water(p, bins, i, u, found)
             if (.not. found) cycle
             q = nearest_on_faces(p%x(:, i), u, faces, found)
             if (.not. found .or. norm2(q - p%x(:, i)) >= 2.0_rp*h) cycle
@@ -203,28 +214,118 @@ contains
       t = 0.5_rp*(lo + hi)
    end function edge_of_run
 
-   !> Unit vector from particle i to the nearest fluid particle (found:
-   !> there is one). Brute force: once per run, over the solids near water.
-   subroutine toward_water(p, i, u, found)
+   !> The fluid particles of p in cells of size cs over their bounding box.
+   subroutine bin_fluid(p, cs, bins)
       type(particles_t), intent(in) :: p
+      real(rp), intent(in) :: cs
+      type(bins_t), intent(out) :: bins
+      integer :: i, c, nf, ist
+      integer, allocatable :: cell(:)
+      character(len=200) :: emsg
+      real(rp) :: lo(2), hi(2)
+      lo = huge(1.0_rp)
+      hi = -huge(1.0_rp)
+      nf = 0
+      do i = 1, p%n
+         if (p%kind(i) /= kind_fluid) cycle
+         nf = nf + 1
+         lo = min(lo, p%x(1:2, i))
+         hi = max(hi, p%x(1:2, i))
+      end do
+      if (nf == 0) then
+         lo = 0.0_rp
+         hi = 0.0_rp
+      end if
+      bins%x0 = lo
+      bins%cs = cs
+      bins%nx = int((hi(1) - lo(1))/cs) + 1
+      bins%ny = int((hi(2) - lo(2))/cs) + 1
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (bins%start(bins%nx*bins%ny + 1), bins%idx(nf), cell(p%n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the fluid bins of scene_ghost_offsets')
+      bins%start = 0
+      do i = 1, p%n
+         cell(i) = 0
+         if (p%kind(i) /= kind_fluid) cycle
+         cell(i) = bin_of(bins, p%x(1, i), p%x(2, i))
+         bins%start(cell(i) + 1) = bins%start(cell(i) + 1) + 1
+      end do
+      bins%start(1) = 1
+      do c = 2, size(bins%start)
+         bins%start(c) = bins%start(c) + bins%start(c - 1)
+      end do
+      ! cell(i)'s next free slot; particles in increasing order within a cell
+      do i = 1, p%n
+         if (cell(i) == 0) cycle
+         bins%idx(bins%start(cell(i))) = i
+         bins%start(cell(i)) = bins%start(cell(i)) + 1
+      end do
+      do c = size(bins%start), 2, -1
+         bins%start(c) = bins%start(c - 1)
+      end do
+      bins%start(1) = 1
+   end subroutine bin_fluid
+
+   !> The cell of a point inside the bins' box.
+   pure integer function bin_of(bins, x, y) result(c)
+      type(bins_t), intent(in) :: bins
+      real(rp), intent(in) :: x, y
+      integer :: ix, iy
+      ix = min(max(int((x - bins%x0(1))/bins%cs) + 1, 1), bins%nx)
+      iy = min(max(int((y - bins%x0(2))/bins%cs) + 1, 1), bins%ny)
+      c = ix + (iy - 1)*bins%nx
+   end function bin_of
+
+   !> Unit vector from particle i to the nearest fluid particle (found:
+   !> there is one; of equally near ones the first in p). The cells are
+   !> searched in square rings around the particle's, until the next ring
+   !> cannot hold a nearer one.
+   subroutine toward_water(p, bins, i, u, found)
+      type(particles_t), intent(in) :: p
+      type(bins_t), intent(in) :: bins
       integer, intent(in) :: i
       real(rp), intent(out) :: u(2)
       logical, intent(out) :: found
-      integer :: j, jmin
-      real(rp) :: d2, dmin
+      integer :: jmin, cx, cy, r, rmax, ix, iy
+      real(rp) :: dmin
       dmin = huge(1.0_rp)
       jmin = 0
-      do j = 1, p%n
-         if (p%kind(j) /= kind_fluid) cycle
-         d2 = (p%x(1, j) - p%x(1, i))**2 + (p%x(2, j) - p%x(2, i))**2
-         if (d2 < dmin) then
-            dmin = d2
-            jmin = j
-         end if
+      ! the particle's cell, possibly outside the box
+      cx = floor((p%x(1, i) - bins%x0(1))/bins%cs) + 1
+      cy = floor((p%x(2, i) - bins%x0(2))/bins%cs) + 1
+      rmax = max(abs(cx - 1), abs(cx - bins%nx), abs(cy - 1), abs(cy - bins%ny))
+      do r = 0, rmax
+         do ix = max(cx - r, 1), min(cx + r, bins%nx)
+            call visit(ix, cy - r)
+            if (r > 0) call visit(ix, cy + r)
+         end do
+         do iy = max(cy - r + 1, 1), min(cy + r - 1, bins%ny)
+            call visit(cx - r, iy)
+            if (r > 0) call visit(cx + r, iy)
+         end do
+         ! every point of ring r + 1 is at least r cells away
+         if (jmin > 0 .and. (real(r, rp)*bins%cs)**2 > dmin) exit
       end do
       found = jmin > 0
       u = 0.0_rp
       if (found) u = (p%x(:, jmin) - p%x(:, i))/sqrt(dmin)
+   contains
+      !> The particles of cell (ix, iy), if it is one of the box.
+      subroutine visit(ix, iy)
+         integer, intent(in) :: ix, iy
+         integer :: k, j, c
+         real(rp) :: d2
+         if (ix < 1 .or. ix > bins%nx .or. iy < 1 .or. iy > bins%ny) return
+         c = ix + (iy - 1)*bins%nx
+         do k = bins%start(c), bins%start(c + 1) - 1
+            j = bins%idx(k)
+            d2 = (p%x(1, j) - p%x(1, i))**2 + (p%x(2, j) - p%x(2, i))**2
+            if (d2 < dmin .or. (.not. d2 > dmin .and. j < jmin)) then
+               dmin = d2
+               jmin = j
+            end if
+         end do
+      end subroutine visit
    end subroutine toward_water
 
    !> The nearest point to x of the faces that look towards u (outward
