@@ -51,6 +51,9 @@ module fluid_forces
       !> particle shifting: the concentration gradient (rows 1 .. ndim) and
       !> the divergence of position (row ndim + 1) of each particle (shifting)
       real(rp), allocatable :: sh(:, :)
+      !> the evaluation with shifting's sums adds to one array: acceleration
+      !> (rows 1 .. ndim), density rate (ndim + 1) and sh (ndim + 2 ..)
+      real(rp), allocatable :: rt(:, :)
       !> this evaluation sums shifting's terms (the step sets it: the sums of the
       !> step's last evaluation are those it shifts by)
       logical :: shift_now = .false.
@@ -60,7 +63,7 @@ module fluid_forces
 
    abstract interface
       subroutine pairs_iface(n, g, nb, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, nf, &
-                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, sh, mumax)
+                             h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
          import :: rp, n_rep, grid_t, nbr_t, ndim
          implicit none
          integer, intent(in) :: n
@@ -70,13 +73,29 @@ module fluid_forces
          real(rp), intent(in) :: nrm(ndim, n), nf(:)
          integer, intent(in) :: kind(n), surf(n)
          real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
-         real(rp), intent(inout) :: acc(ndim, n), drho(n), sh(:, :)
+         real(rp), intent(inout) :: acc(ndim, n), drho(n)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_iface
+      !> the same with particle shifting's sums: rt holds acceleration, density
+      !> rate and shifting's sums of each particle (forces_work_t%rt)
+      subroutine pairs_x_iface(n, g, nb, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, nf, &
+                               h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, rt, mumax)
+         import :: rp, n_rep, grid_t, nbr_t, ndim
+         implicit none
+         integer, intent(in) :: n
+         type(grid_t), intent(in) :: g
+         type(nbr_t), intent(in) :: nb
+         real(rp), intent(in) :: x(ndim, n), v(ndim, n), rho(n), irho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
+         real(rp), intent(in) :: nrm(ndim, n), nf(:)
+         integer, intent(in) :: kind(n), surf(n)
+         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
+         real(rp), intent(inout) :: rt(2*ndim + 2, n)
+         real(rp), intent(inout) :: mumax
+      end subroutine pairs_x_iface
    end interface
 
    procedure(pairs_iface), pointer :: pairs => null()
-   procedure(pairs_iface), pointer :: pairs_shift => null()   !< the same with particle shifting's sums
+   procedure(pairs_x_iface), pointer :: pairs_x => null()   !< with particle shifting's sums
 
 contains
 
@@ -105,15 +124,11 @@ contains
       key = list*10000000 + bc*1000000 + kern*100000 + visc*10000 + diff*1000 + kgc*100 + por*10
       ! with shifting, the loop with its sums for the evaluations whose sums the
       ! step uses (forces_work_t%shift_now) and the one without for the others
-      if (shift == 1) then
-         call choose(key + 1)
-         pairs_shift => pairs
-      end if
+      if (shift == 1) call choose(key + 1)
       call choose(key)
-      if (shift == 0) pairs_shift => pairs
    end subroutine forces_init
 
-   !> pairs => the variant of src/fluid_variants.fypp with this key.
+   !> pairs (pairs_x, with shifting's sums) => the variant of src/fluid_variants.fypp with this key.
    subroutine choose(key)
       integer, intent(in) :: key
       select case (key)
@@ -141,7 +156,7 @@ contains
       character(len=200) :: emsg
       if (allocated(w%acc)) then
          if (size(w%drho) >= nmax) return
-         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%nf, w%mp, w%rp, w%vb, w%sh)
+         deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%nf, w%mp, w%rp, w%vb, w%sh, w%rt)
       end if
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax), stat=ist, errmsg=emsg)
@@ -176,8 +191,10 @@ contains
       call alloc_check(ist, emsg, 'the porous arrays in forces_ensure')
       allocate (w%vb(ndim, merge(nmax, 1, prm%boundary == bnd_mdbc .and. prm%slip /= slip_wall)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'w%vb in forces_ensure')
-      allocate (w%sh(ndim + 1, merge(nmax, 1, prm%shift /= shift_none)), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'w%sh in forces_ensure')
+      ! allow(multiple-allocations-with-stat): either refused is the same stop
+      allocate (w%sh(ndim + 1, merge(nmax, 1, prm%shift /= shift_none)), &
+                w%rt(2*ndim + 2, merge(nmax, 1, prm%shift /= shift_none)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'w%sh, w%rt in forces_ensure')
    end subroutine forces_ensure
 
    !> What a force evaluation needs before its pairs: pressure and sound
@@ -237,9 +254,13 @@ contains
       end if
       if (prm%kgc == kgc_gradient) w%lm(:, 1:n) = 0.0_rp
       if (prm%visc == visc_laminar_sps) w%gv(:, 1:n) = 0.0_rp
-      if (w%shift_now) w%sh(:, 1:n) = 0.0_rp        ! only the evaluation whose sums the step uses
-      w%acc(:, 1:n) = 0.0_rp
-      w%drho(1:n) = 0.0_rp
+      if (w%shift_now) then
+         ! the evaluation whose shifting sums the step uses: all rates in rt
+         w%rt(:, 1:n) = 0.0_rp
+      else
+         w%acc(:, 1:n) = 0.0_rp
+         w%drho(1:n) = 0.0_rp
+      end if
       w%mumax = 0.0_rp
    end subroutine forces_prepare
 
@@ -311,6 +332,14 @@ contains
          call neighbours_of(g, left, right)
          if (right) call pair_rows(prm, g, p, w, w%seg(slot(g, g%ncol)))
       end if
+      if (w%shift_now) then
+         ! the rates where the rest of the step reads them
+         do i = 1, p%n
+            w%acc(:, i) = w%rt(1:ndim, i)
+            w%drho(i) = w%rt(ndim + 1, i)
+            w%sh(:, i) = w%rt(ndim + 2:, i)
+         end do
+      end if
       ! gravity on the owned particles only: the pair sums of the halo
       ! copies are added to their owners afterwards (comm_halo_reverse)
       do i = 1, p%n_own
@@ -380,25 +409,29 @@ contains
       type(forces_work_t), intent(inout) :: w
       type(nbr_t), intent(in) :: nb
       real(rp) :: rep(n_rep)
-      procedure(pairs_iface), pointer :: loop
-      loop => pairs
-      if (w%shift_now) loop => pairs_shift
       ! constants of the repulsive boundary, unused by the dynamic one
       rep = [prm%rep_a, prm%rep_b, prm%rep_q0, prm%rep_u, prm%y_surface, prm%rep_rhswl, prm%dp]
       if (prm%porous) then
-         call loop(p%n, g, nb, p%x, p%v, w%rp, w%irho, p%p, w%mp, p%kind, w%cs, w%rhod, w%lm, w%tau, &
-                    p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                    prm%kgc_cont, rep, w%acc, w%drho, w%sh, w%mumax)
+         call run(p%v, w%rp, w%mp)
       else if (prm%boundary == bnd_mdbc .and. prm%slip /= slip_wall) then
          ! the solids' velocities as the slip condition makes them (bc_mdbc)
-         call loop(p%n, g, nb, p%x, w%vb, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
-                    p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                    prm%kgc_cont, rep, w%acc, w%drho, w%sh, w%mumax)
+         call run(w%vb, p%rho, p%mass)
       else
-         call loop(p%n, g, nb, p%x, p%v, p%rho, w%irho, p%p, p%mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
-                    p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, prm%delta_coef, &
-                    prm%kgc_cont, rep, w%acc, w%drho, w%sh, w%mumax)
+         call run(p%v, p%rho, p%mass)
       end if
+   contains
+      subroutine run(v, rho, mass)
+         real(rp), contiguous, intent(in) :: v(:, :), rho(:), mass(:)
+         if (w%shift_now) then
+            call pairs_x(p%n, g, nb, p%x, v, rho, w%irho, p%p, mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+                         p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, &
+                         prm%delta_coef, prm%kgc_cont, rep, w%rt, w%mumax)
+         else
+            call pairs(p%n, g, nb, p%x, v, rho, w%irho, p%p, mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+                       p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, &
+                       prm%delta_coef, prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
+         end if
+      end subroutine run
    end subroutine pair_rows
 
    !> Pair sums of the sub-particle-scale stress: the velocity gradients
