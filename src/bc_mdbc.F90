@@ -14,7 +14,10 @@
 !> dynamic boundary), its mirror 2 v_wall - v_g ('noslip'), or the ghost's
 !> tangential velocity with the normal one mirrored ('freeslip').
 !> The neighbours of a ghost point are found on the grid around it, beyond
-!> the half stencil: so far on one rank only (run_setup refuses more).
+!> the half stencil, among the particles this rank owns. On several ranks a
+!> ghost point whose support reaches into a neighbour's slab is summed on
+!> every rank over its own particles, and the sums added over the ranks
+!> (the step does the exchange: mdbc_update leaves those points to it).
 module bc_mdbc
    use kinds, only: rp
    use constants, only: kind_fluid, ndim
@@ -22,52 +25,132 @@ module bc_mdbc
    use grid, only: grid_t, grid_column
    use particles, only: particles_t
    use options, only: kernel_cubic
+   use errors, only: alloc_check
    implicit none
    private
-   public :: mdbc_update, mdbc_rates, mdbc_solve
+   public :: mdbc_work_t, mdbc_update, mdbc_sums, mdbc_finish, mdbc_rates, mdbc_solve, mdbc_nsum
 
    !> unknowns of the corrected interpolation: the value and its gradient
    integer, parameter :: nu = ndim + 1
+   !> the sums of one ghost point: the system a (nu x nu) and the right-hand
+   !> sides b (nu x (1 + ndim): density, velocity), as mdbc_sums packs them
+   integer, parameter :: mdbc_nsum = nu*nu + nu*(1 + ndim)
    !> smallest determinant of the (dimensionless) first-order system; below
    !> it the water around the ghost point is too one-sided for a gradient
    !> (the value DualSPHysics uses)
    real(rp), parameter :: det_min = 1.0e-3_rp
+
+   !> The ghost points of one evaluation: those whose water is all on this
+   !> rank's slab (summed and finished by mdbc_update), and those whose kernel
+   !> support crosses into a neighbour's slab (left to the step, which sums
+   !> them over every rank: ie the particles, xe their ghost points).
+   type :: mdbc_work_t
+      integer :: ni = 0, ne = 0
+      integer, allocatable :: ii(:), ie(:)
+      real(rp), allocatable :: xi(:, :), xe(:, :), s(:, :)
+   end type mdbc_work_t
 
 contains
 
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "kernel_formulas.inc"
 
-   !> The density of every solid particle with a ghost point, from the water
-   !> at that point; with slip /= 'wall' also vb, the velocities the pair
-   !> loop reads (the water's own, the solids' as the slip condition makes
-   !> them). The kernel and whether velocities are summed are chosen once
-   !> here, not per pair.
-   subroutine mdbc_update(prm, g, p, vol, vb)
+   !> The density of every owned solid particle with a ghost point, from the
+   !> water at that point; with slip /= 'wall' also vb, the velocities the
+   !> pair loop reads (the water's own, the solids' as the slip condition
+   !> makes them). On several ranks the ghost points whose support reaches
+   !> into a neighbour's slab are left in md%ie, md%xe for the step to sum
+   !> over every rank (mdbc_sums, mdbc_finish); on one rank there are none.
+   subroutine mdbc_update(prm, g, p, vol, vb, md)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       real(rp), intent(inout) :: vol(:)
       real(rp), intent(inout) :: vb(:, :)
-      integer :: i
+      type(mdbc_work_t), intent(inout) :: md
+      integer :: i, kx
+      logical :: left, right
       ! the water's volumes once, not a division per pair (vol is the
       ! evaluation's scratch here: forces_prepare fills it again)
       do i = 1, p%n
          vol(i) = p%mass(i)/p%rho(i)
       end do
-      if (prm%slip /= slip_wall) then
-         vb(:, 1:p%n) = p%v(:, 1:p%n)
-         if (prm%kernel == kernel_cubic) then
-            call ghosts_cubic_v(prm, g, p, vol, vb)
+      if (prm%slip /= slip_wall) vb(:, 1:p%n) = p%v(:, 1:p%n)
+      call ensure_lists(md, p%n_own)
+      left = g%col0 > 0
+      right = g%col0 + g%ncol < g%ncx_all
+      md%ni = 0
+      md%ne = 0
+      do i = 1, p%n_own
+         if (p%kind(i) == kind_fluid) cycle
+         if (dot_product(p%gof(:, i), p%gof(:, i)) <= 0.0_rp) cycle   ! no ghost point
+         kx = grid_column(g%x0, g%cs, g%ncx_all, p%x(1, i) + p%gof(1, i)) - g%col0 + 1
+         if ((left .and. kx - 1 < 1) .or. (right .and. kx + 1 > g%ncol)) then
+            md%ne = md%ne + 1
+            md%ie(md%ne) = i
+            md%xe(:, md%ne) = p%x(:, i) + p%gof(:, i)
          else
-            call ghosts_wendland_v(prm, g, p, vol, vb)
+            md%ni = md%ni + 1
+            md%ii(md%ni) = i
+            md%xi(:, md%ni) = p%x(:, i) + p%gof(:, i)
+         end if
+      end do
+      call mdbc_sums(prm, g, p, vol, md%xi(:, 1:md%ni), md%s(:, 1:md%ni))
+      call mdbc_finish(prm, p, md%ii(1:md%ni), md%s(:, 1:md%ni), vb)
+   end subroutine mdbc_update
+
+   !> The work lists for up to n ghost points.
+   subroutine ensure_lists(md, n)
+      type(mdbc_work_t), intent(inout) :: md
+      integer, intent(in) :: n
+      integer :: ist
+      character(len=200) :: emsg
+      if (allocated(md%ii)) then
+         if (size(md%ii) >= n) return
+         deallocate (md%ii, md%ie, md%xi, md%xe, md%s)
+      end if
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (md%ii(n), md%ie(n), md%xi(ndim, n), md%xe(ndim, n), md%s(mdbc_nsum, n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the ghost point lists of mdbc_update', n)
+   end subroutine ensure_lists
+
+   !> s(:, k): the sums of the water this rank owns around ghost point xg(:, k)
+   !> (packed as mdbc_nsum numbers); the kernel and whether velocities are
+   !> summed are chosen here, once for the list.
+   subroutine mdbc_sums(prm, g, p, vol, xg, s)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      real(rp), intent(in) :: vol(:)
+      real(rp), intent(in) :: xg(:, :)
+      real(rp), intent(out) :: s(:, :)
+      if (prm%slip /= slip_wall) then
+         if (prm%kernel == kernel_cubic) then
+            call ghosts_cubic_v(prm, g, p, vol, xg, s)
+         else
+            call ghosts_wendland_v(prm, g, p, vol, xg, s)
          end if
       else if (prm%kernel == kernel_cubic) then
-         call ghosts_cubic(prm, g, p, vol, vb)
+         call ghosts_cubic(prm, g, p, vol, xg, s)
       else
-         call ghosts_wendland(prm, g, p, vol, vb)
+         call ghosts_wendland(prm, g, p, vol, xg, s)
       end if
-   end subroutine mdbc_update
+   end subroutine mdbc_sums
+
+   !> The densities (and slip velocities) of particles ie from the complete
+   !> sums s(:, k) of their ghost points.
+   subroutine mdbc_finish(prm, p, ie, s, vb)
+      type(params_t), intent(in) :: prm
+      type(particles_t), intent(inout) :: p
+      integer, intent(in) :: ie(:)
+      real(rp), intent(in) :: s(:, :)
+      real(rp), intent(inout) :: vb(:, :)
+      integer :: k
+      do k = 1, size(ie)
+         call ghost_finish(prm, p, ie(k), reshape(s(1:nu*nu, k), [nu, nu]), &
+                           reshape(s(nu*nu + 1:mdbc_nsum, k), [nu, 1 + ndim]), vb)
+      end do
+   end subroutine mdbc_finish
 
 ! the four routines of the ghost points' sums, generated from src/mdbc_ghosts.fypp
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include

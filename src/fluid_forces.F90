@@ -20,6 +20,7 @@ module fluid_forces
    use kernel, only: kernel_cubic
    use kernel_correction, only: kgc_sums, kgc_finish
    use porous, only: porous_t, porous_field, n_por
+   use bc_mdbc, only: mdbc_work_t
    implicit none
    private
    public :: forces_work_t, forces_init, forces_ensure, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last
@@ -54,6 +55,7 @@ module fluid_forces
       !> the evaluation with shifting's sums adds to one array: acceleration
       !> (rows 1 .. ndim), density rate (ndim + 1) and sh (ndim + 2 ..)
       real(rp), allocatable :: rt(:, :)
+      type(mdbc_work_t) :: md              !< mDBC: the ghost points of the evaluation (bc_mdbc)
       !> this evaluation sums shifting's terms (the step sets it: the sums of the
       !> step's last evaluation are those it shifts by)
       logical :: shift_now = .false.

@@ -174,9 +174,6 @@ contains
       type(case_cfg), intent(in) :: c
       integer :: nr, ncx
       nr = comm_size()
-      ! a ghost point's neighbours reach past the one halo column (doc/mdbc.md)
-      if (nr > 1 .and. c%numerics%boundary_id == bnd_mdbc) call input_error(c%file, 'numerics', 'boundary', &
-         "'mdbc' runs on one rank only so far (started on "//int_str(nr)//"): run it without mpirun, or use 'dynamic'")
       if (nr == 1) return
       ! counted, not allocated: the grid itself comes after the size check
       ncx = grid_columns(c%domain%xmin, c%domain%xmax, c%numerics%h_over_dp*c%numerics%dp)

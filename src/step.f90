@@ -7,13 +7,13 @@
 !> the run's check that the chosen step stayed within its stability limit.
 module step
    use kinds, only: rp
-   use constants, only: kind_fluid, kind_moving
+   use constants, only: kind_fluid, kind_moving, ndim
    use params, only: params_t, integ_symplectic, integ_predictor_corrector, integ_verlet, visc_laminar_sps, kgc_gradient, &
-                     bnd_mdbc, shift_none
+                     bnd_mdbc, shift_none, slip_wall
    use grid, only: grid_t
    use particles, only: particles_t
    use fluid_forces, only: forces_work_t, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last, forces_ensure
-   use bc_mdbc, only: mdbc_update, mdbc_rates
+   use bc_mdbc, only: mdbc_update, mdbc_rates, mdbc_sums, mdbc_finish, mdbc_nsum
    use shifting, only: shifting_apply
    use bc_motion, only: walls_t, motion_apply
    use timers, only: timer_start, timer_stop, t_pairs, t_integrate, t_bodies
@@ -21,7 +21,7 @@ module step
                             bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, bodies_accel2, &
                             bodies_pack_sums, bodies_unpack_sums, bodies_prescribe
    use contact, only: contact_t, contact_sweep, contact_keys_shared, contact_keys_pack, contact_keys_unpack, contact_apply
-   use comm, only: comm_max, comm_size, comm_sum, comm_allgatherv
+   use comm, only: comm_max, comm_size, comm_rank, comm_sum, comm_allgather, comm_allgatherv
    use errors, only: fatal, alloc_check
    use input_check, only: int_str
    use porous, only: porous_t, porous_accel, porous_rate_max
@@ -138,7 +138,13 @@ contains
       if (prm%boundary == bnd_mdbc) then
          ! the solids' densities (and slip velocities) from the water at their ghost points
          call forces_ensure(w, size(p%rho), prm)
-         call mdbc_update(prm, g, p, w%vol, w%vb)
+         call mdbc_update(prm, g, p, w%vol, w%vb, w%md)
+         if (comm_size() > 1) then
+            call mdbc_edges(prm, g, p, w)
+            ! the halo's copies of the solids take their owners' values
+            call comm_halo_forward(halo, p%rho, p%n_own)
+            if (prm%slip /= slip_wall) call comm_halo_forward(halo, w%vb, p%n_own)
+         end if
       end if
       call forces_prepare(prm, por, p, w)
       call forces_sweep(prm, g, p, w)
@@ -185,6 +191,34 @@ contains
       end if
       call timer_stop(t_bodies)
    end subroutine evaluate
+
+   !> mDBC on several ranks: the ghost points whose kernel support crosses a
+   !> slab edge (w%md%xe, from mdbc_update) are summed by every rank over the
+   !> water it owns, the sums added over the ranks, and each owner finishes
+   !> its own. The points of every rank go to all (a few rows of wall at
+   !> each edge), so a support that spans several slabs is summed too.
+   subroutine mdbc_edges(prm, g, p, w)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(inout) :: p
+      type(forces_work_t), intent(inout) :: w
+      real(rp), allocatable :: xall(:), s(:, :), flat(:)
+      integer :: counts(comm_size()), n_all, k0, ne, ist
+      character(len=200) :: emsg
+      ne = w%md%ne
+      call comm_allgather(ne, counts)
+      n_all = sum(counts)
+      if (n_all == 0) return
+      k0 = sum(counts(1:comm_rank()))
+      call comm_allgatherv(reshape(w%md%xe(:, 1:ne), [ndim*ne]), xall)
+      allocate (s(mdbc_nsum, n_all), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, "the ghost points' sums in mdbc_edges", n_all)
+      call mdbc_sums(prm, g, p, w%vol, reshape(xall, [ndim, n_all]), s)
+      flat = reshape(s, [mdbc_nsum*n_all])
+      call comm_sum(flat)
+      s = reshape(flat, [mdbc_nsum, n_all])
+      call mdbc_finish(prm, p, w%md%ie(1:ne), s(:, k0 + 1:k0 + ne), w%vb)
+   end subroutine mdbc_edges
 
    !> The time step from the forces just computed (Monaghan and Kos 1999:
    !> force, acoustic-viscous and laminar limits), limited further by the

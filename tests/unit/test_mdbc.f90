@@ -14,7 +14,7 @@ program test_mdbc
    use grid, only: grid_t, grid_init, grid_sort
    use params, only: params_t, slip_wall, slip_noslip, slip_freeslip
    use kernel, only: kernel_wendland, kernel_cubic, kernel_norm
-   use bc_mdbc, only: mdbc_update, mdbc_solve
+   use bc_mdbc, only: mdbc_update, mdbc_solve, mdbc_work_t
    use testing, only: check, check_close, test_summary, random_seed_fixed
    implicit none
    integer, parameter :: nx = 30, ny = 20, nwall = 3*nx, nextra = 2
@@ -23,6 +23,7 @@ program test_mdbc
    real(rp), parameter :: u0(2) = [0.2_rp, -0.1_rp], gu(2, 2) = reshape([1.5_rp, 0.4_rp, -0.7_rp, 2.0_rp], [2, 2])
    type(particles_t) :: p
    type(grid_t) :: g
+   type(mdbc_work_t) :: md
    type(params_t) :: prm
    logical(lk), allocatable :: drop(:)
    real(rp), allocatable :: vol(:), vb(:, :)
@@ -56,7 +57,7 @@ program test_mdbc
          call grid_init(g, -0.05_rp, 0.35_rp, -0.05_rp, 0.25_rp, prm%h)
          drop = .false.
          call grid_sort(g, p, drop)
-         call mdbc_update(prm, g, p, vol, vb)
+         call mdbc_update(prm, g, p, vol, vb, md)
          err_r = 0.0_rp
          err_v = 0.0_rp
          do i = 1, p%n
@@ -96,7 +97,7 @@ program test_mdbc
    drop = .false.
    call grid_sort(g, p, drop)
    prm%slip = slip_wall
-   call mdbc_update(prm, g, p, vol, vb)
+   call mdbc_update(prm, g, p, vol, vb, md)
    call check(minval(p%rho(1:p%n), mask=p%kind(1:p%n) /= kind_fluid) >= rho0, 'no solid particle below rho0')
    call test_summary('test_mdbc')
 
