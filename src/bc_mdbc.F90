@@ -143,12 +143,12 @@ contains
       type(params_t), intent(in) :: prm
       type(particles_t), intent(inout) :: p
       integer, intent(in) :: ie(:)
-      real(rp), intent(in) :: s(:, :)
+      real(rp), intent(in) :: s(mdbc_nsum, size(ie))
       real(rp), intent(inout) :: vb(:, :)
       integer :: k
       do k = 1, size(ie)
-         call ghost_finish(prm, p, ie(k), reshape(s(1:nu*nu, k), [nu, nu]), &
-                           reshape(s(nu*nu + 1:mdbc_nsum, k), [nu, 1 + ndim]), vb)
+         ! a and b, column after column: the explicit-shape dummies of ghost_finish take them in place
+         call ghost_finish(prm, p, ie(k), s(1, k), s(nu*nu + 1, k), vb)
       end do
    end subroutine mdbc_finish
 
