@@ -3,11 +3,12 @@ module constants
    use kinds, only: rp
    implicit none
    private
-   public :: pi, ndim, kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, kind_name, &
+   public :: pi, ndim, nsym, kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, kind_name, &
              name_len, path_len, msg_len
 
    real(rp), parameter :: pi = 3.14159265358979323846_rp
    integer, parameter :: ndim = 2            !< space dimensions; arrays are shaped (ndim, n)
+   integer, parameter :: nsym = ndim*(ndim + 1)/2   !< components of a symmetric tensor (xx, xy, yy in 2D)
 
    ! particle kinds: the integer stored per particle and in the snapshots
    integer, parameter :: kind_fluid = 1

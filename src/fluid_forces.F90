@@ -10,7 +10,7 @@ module fluid_forces
    use kinds, only: rp
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
-   use constants, only: kind_fluid, ndim
+   use constants, only: kind_fluid, ndim, nsym
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive, bnd_mdbc, &
                      slip_wall, shift_none
    use grid, only: grid_t, grid_ranges, grid_last_cell
@@ -161,7 +161,7 @@ contains
          deallocate (w%acc, w%drho, w%cs, w%irho, w%vol, w%rhod, w%lm, w%tau, w%gv, w%por, w%nf, w%mp, w%rp, w%vb, w%sh, w%rt)
       end if
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (w%acc(2, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax), stat=ist, errmsg=emsg)
+      allocate (w%acc(ndim, nmax), w%drho(nmax), w%cs(nmax), w%irho(nmax), w%vol(nmax), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'the force arrays', nmax)
       ! arrays of models that are off stay minimal
       if (prm%diffusion /= diff_none) then
@@ -172,19 +172,19 @@ contains
          call alloc_check(ist, emsg, 'w%rhod in forces_ensure')
       end if
       if (prm%kgc == kgc_gradient) then
-         allocate (w%lm(3, nmax), stat=ist, errmsg=emsg)
+         allocate (w%lm(nsym, nmax), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'w%lm in forces_ensure')
       else
-         allocate (w%lm(3, 1), stat=ist, errmsg=emsg)
+         allocate (w%lm(nsym, 1), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'w%lm in forces_ensure')
       end if
       if (prm%visc == visc_laminar_sps) then
          ! allow(multiple-allocations-with-stat): either refused is the same stop
-         allocate (w%tau(3, nmax), w%gv(4, nmax), stat=ist, errmsg=emsg)
+         allocate (w%tau(nsym, nmax), w%gv(ndim*ndim, nmax), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'w%tau, w%gv in forces_ensure')
       else
          ! allow(multiple-allocations-with-stat): either refused is the same stop
-         allocate (w%tau(3, 1), w%gv(4, 1), stat=ist, errmsg=emsg)
+         allocate (w%tau(nsym, 1), w%gv(ndim*ndim, 1), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'w%tau, w%gv in forces_ensure')
       end if
       ! allow(multiple-allocations-with-stat): either refused is the same stop
@@ -345,7 +345,7 @@ contains
       ! gravity on the owned particles only: the pair sums of the halo
       ! copies are added to their owners afterwards (comm_halo_reverse)
       do i = 1, p%n_own
-         if (p%kind(i) == kind_fluid) w%acc(2, i) = w%acc(2, i) - prm%g
+         if (p%kind(i) == kind_fluid) w%acc(ndim, i) = w%acc(ndim, i) - prm%g   ! gravity along the last axis
       end do
    end subroutine forces_sweep_last
 

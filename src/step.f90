@@ -239,7 +239,7 @@ contains
       cmax = prm%c0
       do i = 1, p%n_own
          if (p%kind(i) /= kind_fluid) cycle
-         amax2 = max(amax2, w%acc(1, i)**2 + w%acc(2, i)**2)
+         amax2 = max(amax2, sum(w%acc(:, i)**2))
          cmax = max(cmax, w%cs(i))
       end do
       ! largest squared acceleration, sound speed and viscous speed; stiffest
@@ -274,7 +274,7 @@ contains
       end if
       if (.not. allocated(ss%rho0)) then
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-         allocate (ss%x0(2, size(p%rho)), ss%v0(2, size(p%rho)), ss%rho0(size(p%rho)), stat=ist, errmsg=emsg)
+         allocate (ss%x0(ndim, size(p%rho)), ss%v0(ndim, size(p%rho)), ss%rho0(size(p%rho)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'the state at the start of a step', size(p%rho))
       end if
       ss%x0(:, 1:n) = p%x(:, 1:n)
@@ -392,7 +392,7 @@ contains
       integer, intent(in) :: istep
       real(rp), intent(out) :: dt
       integer :: i
-      real(rp) :: vnew(2), rnew, dt2, hdt2
+      real(rp) :: vnew(ndim), rnew, dt2, hdt2
       logical :: euler
       w%shift_now = prm%shift /= shift_none
       call evaluate(prm, por, g, p, halo, w, bodies, ct)
