@@ -15,8 +15,9 @@ depend on the number of ranks (doc/parallel.md).
 - Load balance: water in the left half of a tank; the two ranks' particle counts end
   within 10 % of each other, while slabs of equal width (balance_every = 0) differ
   far more.
-- A bad input stops both ranks within 10 s with one message and exit code 2; so does
-  boundary = 'mdbc', which runs on one rank so far.
+- A bad input stops both ranks within 10 s with one message and exit code 2.
+- The modified dynamic boundary (mDBC) agrees between 1 and 2 ranks like the other
+  models: its ghost points whose water lies on both slabs are summed on both ranks.
 """
 
 from __future__ import annotations
