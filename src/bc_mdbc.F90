@@ -22,7 +22,7 @@ module bc_mdbc
    use kinds, only: rp
    use constants, only: kind_fluid, ndim
    use params, only: params_t, slip_wall, slip_noslip, slip_freeslip
-   use grid, only: grid_t, grid_column
+   use grid, only: grid_t, grid_column, grid_neighbours
    use particles, only: particles_t
    use options, only: kernel_cubic
    use errors, only: alloc_check
@@ -77,8 +77,7 @@ contains
       end do
       if (prm%slip /= slip_wall) vb(:, 1:p%n) = p%v(:, 1:p%n)
       call ensure_lists(md, p%n_own)
-      left = g%col0 > 0
-      right = g%col0 + g%ncol < g%ncx_all
+      call grid_neighbours(g, left, right)
       md%ni = 0
       md%ne = 0
       do i = 1, p%n_own

@@ -13,7 +13,7 @@ module fluid_forces
    use constants, only: kind_fluid, ndim, nsym
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive, bnd_mdbc, &
                      slip_wall, shift_none
-   use grid, only: grid_t, grid_ranges, grid_last_cell
+   use grid, only: grid_t, grid_ranges, grid_last_cell, grid_neighbours
    use particles, only: particles_t
    use eos, only: eos_update, eos_dynamic_density
    use nbr_list, only: nbr_t, nbr_build
@@ -291,7 +291,7 @@ contains
          call pair_rows(prm, g, p, w, w%seg(1))
          return
       end if
-      call neighbours_of(g, left, right)
+      call grid_neighbours(g, left, right)
       do c = 1, g%ncol
          s = slot(g, c)
          call nbr_build(w%seg(s), g, p%x, p%n, prm%kernel, prm%h, prm%support2, prm%fw, c)
@@ -314,7 +314,7 @@ contains
       type(forces_work_t), intent(inout) :: w
       logical :: left, right
       if (.not. needs_list(prm)) return
-      call neighbours_of(g, left, right)
+      call grid_neighbours(g, left, right)
       if (.not. left) return
       call pre_finish(prm, p, w, w%seg(slot(g, 1))%i0, w%seg(slot(g, 1))%i1)
       if (.not. (g%ncol == 1 .and. right)) call pair_rows(prm, g, p, w, w%seg(slot(g, 1)))
@@ -331,7 +331,7 @@ contains
       logical :: left, right
       integer :: i
       if (needs_list(prm)) then
-         call neighbours_of(g, left, right)
+         call grid_neighbours(g, left, right)
          if (right) call pair_rows(prm, g, p, w, w%seg(slot(g, g%ncol)))
       end if
       if (w%shift_now) then
@@ -349,22 +349,13 @@ contains
       end do
    end subroutine forces_sweep_last
 
-   !> Whether the slab has a rank on its left and on its right (the grid's
-   !> columns against the domain's).
-   pure subroutine neighbours_of(g, left, right)
-      type(grid_t), intent(in) :: g
-      logical, intent(out) :: left, right
-      left = g%col0 > 0
-      right = g%col0 + g%ncol < g%ncx_all
-   end subroutine neighbours_of
-
    !> The list slot of column c: two alternate, the first and last columns of
    !> a slab with neighbours keep theirs until the halo exchanges.
    pure integer function slot(g, c) result(s)
       type(grid_t), intent(in) :: g
       integer, intent(in) :: c
       logical :: left, right
-      call neighbours_of(g, left, right)
+      call grid_neighbours(g, left, right)
       if (c == 1 .and. left) then
          s = 3
       else if (c == g%ncol .and. right) then

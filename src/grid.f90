@@ -18,7 +18,7 @@ module grid
    use particles, only: particles_t, particles_permute
    implicit none
    private
-   public :: grid_t, grid_init, grid_columns, grid_sort, grid_cell, grid_column, grid_visit_pairs, &
+   public :: grid_t, grid_neighbours, grid_init, grid_columns, grid_sort, grid_cell, grid_column, grid_visit_pairs, &
              grid_first_column_end, &
              grid_add_halo, grid_ranges, grid_last_cell
 
@@ -250,4 +250,13 @@ contains
          end do
       end do
    end subroutine grid_visit_pairs
+
+   !> Whether the slab has a rank on its left and on its right (the grid's
+   !> columns against the domain's).
+   pure subroutine grid_neighbours(g, left, right)
+      type(grid_t), intent(in) :: g
+      logical, intent(out) :: left, right
+      left = g%col0 > 0
+      right = g%col0 + g%ncol < g%ncx_all
+   end subroutine grid_neighbours
 end module grid
