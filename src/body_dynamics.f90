@@ -278,8 +278,12 @@ contains
          real(rp), intent(in) :: c(:, :)
          real(rp) :: m(size(c, 1), size(c, 2))
          integer :: bb, oo, d
+         m = 0.0_rp
          do bb = 1, nb
             oo = ndof*(bb - 1)
+            ! a fixed or prescribed body may have no mass; its rows of c are
+            ! zero and stay so (0/0 would put NaN into every body's solve)
+            if (bodies(bb)%motion /= motion_floating) cycle
             do d = 1, ndim
                m(oo + d, :) = c(oo + d, :)*(1.0_rp/bodies(bb)%mass)
             end do
