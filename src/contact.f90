@@ -42,12 +42,16 @@ contains
       type(contact_t), intent(out) :: ct
       ct%model = cs%model
       ct%k10b2 = (10.0_rp/cs%b)**2
-      ! default c0 = B sqrt(g h): the static term (10/B)^2 0.005 c0^2 / h equals
-      ! g/2, so that a body resting on a face carries its weight inside the
-      ! barrier of R, where the contact is stiff enough that a coarse cube does
-      ! not tip over on its own compliance (doc/contact.md)
+      ! default c0: the static term (10/B)^2 0.005 c0^2 / h equals g/2, so that
+      ! a body resting on a face carries its weight inside the barrier of R,
+      ! where the contact is stiffest; with a stiff core, which carries the
+      ! load, g/100: the soft term only cushions the approach, and a share of
+      ! the load on it would spread a face's support over a spacing of travel
+      ! and tip a cube early (doc/contact.md)
       ct%c = cs%c0
-      if (ct%c <= 0.0_rp) ct%c = sqrt(0.5_rp*max(prm%g, 1.0e-3_rp)*prm%h/(0.005_rp*ct%k10b2))
+      if (ct%c <= 0.0_rp) ct%c = sqrt(merge(0.01_rp, 0.5_rp, cs%core > 0.0_rp)*max(prm%g, 1.0e-3_rp)*prm%h/ &
+                                       (0.005_rp*ct%k10b2))
+      ct%core = cs%core*prm%dp
       ct%r_f = cs%r_f
       ct%q0 = cs%q0
       ! q_b = barrier dp/(8h): with the default 2, the touching q_t = dp/(4h)

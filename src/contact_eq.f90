@@ -10,7 +10,7 @@ module contact_eq
    use body_dynamics, only: body_t
    use options, only: model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
    use contact_state, only: contact_t, key_index, store_pair
-   use contact_pair, only: pair_force, pair_friction, pair_viscous, velocity_at, contact_normal, pair_mass
+   use contact_pair, only: pair_force, pair_friction, pair_viscous, velocity_at, contact_normal, pair_mass, body_mass
    implicit none
    private
    public :: eq_gather, eq_apply
@@ -45,7 +45,7 @@ contains
          ct%kt(1:2, k) = ct%kt(1:2, k) + merge(rq*pw, -rq*pw, p%body(i) < p%body(j))*n
          if (bi == 0) ct%kv(:, k) = ct%kv(:, k) + rq*pw*p%v(:, i)
          if (bj == 0) ct%kv(:, k) = ct%kv(:, k) + rq*pw*p%v(:, j)
-         call store_pair(ct, i, j, bi, bj, n, rq*pw, q, k)
+         call store_pair(ct, i, j, bi, bj, n, rq*pw, q, pw*max(prm%dp - psi_c, 0.0_rp), k)
       end do pairs
    end subroutine eq_gather
 
@@ -60,7 +60,7 @@ contains
       type(particles_t), intent(in) :: p
       type(body_t), intent(inout) :: bodies(:)
       integer :: m, i, j, bi, bj
-      real(rp) :: xc(2), vrel(2), n(2), ul, a, fn, m_ij, rp_w, q, kstiff, aimp, xi(2)
+      real(rp) :: xc(2), vrel(2), n(2), ul, a, fn, m_ij, rp_w, q, kstiff, aimp, xi(2), kc, kc_pair, cc, f_core, mb
       pairs: do m = 1, ct%np
          i = ct%pij(1, m); j = ct%pij(2, m); bi = ct%pb(1, m); bj = ct%pb(2, m)
          n = ct%pn(:, m); rp_w = ct%pw(m); q = ct%pq(m)
@@ -79,6 +79,24 @@ contains
          if (ul < 0.0_rp) aimp = ct%k_imp*ul*ul/prm%h
          m_ij = pair_mass(bodies, bi, bj)
          fn = m_ij*(a + aimp)*rp_w
+         if (ct%core > 0.0_rp .and. ct%po(m) > 0.0_rp) then
+            ! the stiff core: where the outlines overlap, a spring that carries
+            ! the weight of the (lighter) floating body on one pair at an
+            ! overlap of ct%core, with a damper critical for that pair alone
+            ! under the body (several pairs side by side damp a face's
+            ! motion more than critically: a block lands without bouncing);
+            ! never pulling (non-cohesive)
+            mb = body_mass(bodies, bi, bj)
+            kc = mb*prm%g/ct%core
+            kc_pair = kc*rp_w/rhat(ct, q)           ! times P(xi): this pair's share
+            cc = 2.0_rp*sqrt(kc_pair*sqrt(m_ij*mb))
+            f_core = kc*ct%po(m) - cc*ul
+            if (f_core > 0.0_rp) then
+               fn = fn + f_core
+               call pair_viscous(ct, bodies, p, i, j, bi, bj, cc, n)
+            end if
+            ct%dt_limit = min(ct%dt_limit, 0.3_rp*sqrt(m_ij/max(kc_pair, tiny(1.0_rp))))
+         end if
          if (.not. abs(fn) > 0.0_rp) cycle pairs
          if (ct%model /= model_noncohesive .or. ul <= 0.0_rp) then
             call pair_viscous(ct, bodies, p, i, j, bi, bj, m_ij*(ct%k10b2*ct%r_f*ct%c + &

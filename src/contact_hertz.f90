@@ -122,7 +122,7 @@ contains
          ! particles the sweep calls i
          ct%kx(:, k) = ct%kx(:, k) + merge(w, -w, p%body(i) > p%body(j))*n
          ct%kt(:, k) = ct%kt(:, k) + w*[n(1)*n(1), n(1)*n(2), n(2)*n(2)]
-         call store_pair(ct, i, j, bi, bj, n, overlap, 0.0_rp, k)
+         call store_pair(ct, i, j, bi, bj, n, overlap, 0.0_rp, 0.0_rp, k)
       end do
    end subroutine hertz_gather
 

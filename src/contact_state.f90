@@ -24,6 +24,7 @@ module contact_state
       real(rp) :: stick_velocity = 1.0e-3_rp  !< slip speed below which friction is proportional [m/s]
       real(rp) :: stick_length = 0.01_rp     !< slip of the friction spring at mu f_n, in dp [-]; 0: off
       real(rp) :: impact = 20.0_rp           !< K of the approach term of eps (Eq. 2) [-]; 0: off
+      real(rp) :: core = 0.0_rp              !< overlap of the stiff core under a body's weight on one pair, in dp [-]; 0: off
    end type contact_settings_t
 
    type :: contact_t
@@ -36,6 +37,7 @@ module contact_state
       real(rp) :: v_stick = 1.0e-3_rp
       real(rp) :: xi_max = 0.0_rp     !< slip held by the static friction spring at mu f_n [m] (0: no spring)
       real(rp) :: k_imp = 0.0_rp      !< K of the approach term K u_L^2 / h (Eq. 2-6 models)
+      real(rp) :: core = 0.0_rp       !< overlap of the stiff core at which one pair carries a body's weight [m] (0: no core)
       real(rp) :: max_penetration = 0.0_rp  !< largest overlap of two surfaces in the last evaluation [m]
       real(rp) :: dt_limit = huge(1.0_rp)   !< stable step for the stiffest contact of the last evaluation [s]
       real(rp) :: dt_motion = huge(1.0_rp)  !< step in which no point of a moving body moves more than cfl h [s]
@@ -56,6 +58,7 @@ module contact_state
       integer :: np = 0, nk = 0
       integer, allocatable :: pij(:, :), pb(:, :), pkey(:)
       real(rp), allocatable :: pn(:, :), pw(:), pq(:)
+      real(rp), allocatable :: po(:)        !< overlap of the two outlines, dp - (normal distance), times P(xi) [m]
       integer, allocatable :: kid(:, :)
       real(rp), allocatable :: kx(:, :), kw(:)
       real(rp), allocatable :: kt(:, :)     !< Hertz: sum of sqrt(overlap) n n^T per pair of bodies (xx, xy, yy);
@@ -121,18 +124,18 @@ contains
    end function slot_of
 
    !> One pair of the sweep kept for the second pass: particles i, j of bodies
-   !> bi, bj (0: a wall), normal n, weight w, q, contact k of the table.
-   subroutine store_pair(ct, i, j, bi, bj, n, w, q, k)
+   !> bi, bj (0: a wall), normal n, weight w, q, weighted overlap o, contact k of the table.
+   subroutine store_pair(ct, i, j, bi, bj, n, w, q, o, k)
       type(contact_t), intent(inout) :: ct
       integer, intent(in) :: i, j, bi, bj, k
-      real(rp), intent(in) :: n(2), w, q
+      real(rp), intent(in) :: n(2), w, q, o
       integer :: cap
       integer :: ist
       character(len=200) :: emsg
       if (.not. allocated(ct%pkey)) then
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
          allocate (ct%pij(2, 256), ct%pb(2, 256), ct%pkey(256), ct%pn(2, 256), &
-                   ct%pw(256), ct%pq(256), stat=ist, errmsg=emsg)
+                   ct%pw(256), ct%pq(256), ct%po(256), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'ct%pij, ct%pb, ct%pkey, ... in store_pair')
       end if
       cap = size(ct%pkey)
@@ -143,6 +146,7 @@ contains
          ct%pn = reshape([ct%pn, spread(0.0_rp, 1, 2*cap)], [2, 2*cap])
          ct%pw = [ct%pw, spread(0.0_rp, 1, cap)]
          ct%pq = [ct%pq, spread(0.0_rp, 1, cap)]
+         ct%po = [ct%po, spread(0.0_rp, 1, cap)]
       end if
       ct%np = ct%np + 1
       ct%pij(:, ct%np) = [i, j]
@@ -151,6 +155,7 @@ contains
       ct%pn(:, ct%np) = n
       ct%pw(ct%np) = w
       ct%pq(ct%np) = q
+      ct%po(ct%np) = o
    end subroutine store_pair
 
 

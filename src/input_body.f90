@@ -7,7 +7,8 @@ module input_body
                           int_str, real_str
    use errors, only: input_error, alloc_check
    use geom, only: polygon_area, polygon_self_intersects
-   use options, only: contact_names, model_spring, option_index, shape_names, shape_circle, shape_box, shape_wedge, shape_polygon, &
+   use options, only: contact_names, model_spring, model_repulsive, option_index, shape_names, shape_circle, &
+                      shape_box, shape_wedge, shape_polygon, &
                       body_motion_names, motion_floating, motion_prescribed
    implicit none
    private
@@ -54,6 +55,8 @@ module input_body
       real(rp) :: stick_length = 0.01_rp     !< slip at which the friction spring gives mu f_n, in dp [-]; 0: off
       real(rp) :: impact = 20.0_rp           !< K of the approach term K u_L^2 / h of eps (Eq. 2) [-]; 0: off
       real(rp) :: barrier = 2.0_rp           !< barrier of R: q_b in units of dp/(8h) (2: touching) [-]; 0: off
+      real(rp) :: core = -huge(1.0_rp)       !< overlap of the stiff core under a body's weight on one pair, in dp [-];
+                                             !< 0: off; left out: 0.01 for the non-cohesive models, 0 for 'repulsive'
    end type contact_cfg
 
    type(body_cfg) :: dflt
@@ -64,8 +67,8 @@ module input_body
    integer :: nvert, layers
    namelist /body/ shape, x, y, radius, width, height, angle, nvert, vx, vy, density, mass, motion, u, v, &
       omega, amplitude_x, amplitude_y, amplitude_angle, period, phase, mu, restitution, young, poisson, layers
-   real(rp) :: r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier
-   namelist /contact/ model, r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier
+   real(rp) :: r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier, core_overlap
+   namelist /contact/ model, r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier, core_overlap
 
 contains
 
@@ -220,7 +223,7 @@ contains
       type(contact_cfg) :: d
       if (group_count(file, 'contact') > 1) call input_error(file, 'contact', '', 'group appears more than once')
       model = d%model; r_f = d%r_f; b = d%b; c0 = d%c0; q0 = d%q0; stick_velocity = d%stick_velocity
-      impact = d%impact; barrier = d%barrier; stick_length = d%stick_length
+      impact = d%impact; barrier = d%barrier; stick_length = d%stick_length; core_overlap = d%core
       if (group_count(file, 'contact') == 1) then
          u_ = open_case(file)
          read (u_, nml=contact, iostat=ios, iomsg=msg)
@@ -228,9 +231,12 @@ contains
          if (read_failed(file, 'contact', ios, msg)) return
       end if
       c%model = model; c%r_f = r_f; c%b = b; c%c0 = c0; c%q0 = q0; c%stick_velocity = stick_velocity
-      c%impact = impact; c%barrier = barrier; c%stick_length = stick_length
+      c%impact = impact; c%barrier = barrier; c%stick_length = stick_length; c%core = core_overlap
       c%model_id = option_index(file, 'contact', 'model', c%model, contact_names)
       c%model = contact_names(c%model_id)
+      ! the stiff core under the non-cohesive models by default; Eq. 4 keeps
+      ! its soft, cohesive form, whose artefact that model is there to show
+      if (c%core < -1.0e30_rp) c%core = merge(0.0_rp, 0.01_rp, c%model_id == model_repulsive)
       call check_real(file, 'contact', 'r_f', c%r_f, 0.0_rp, 1.0e3_rp)
       call check_real(file, 'contact', 'b', c%b, 0.0_rp, 100.0_rp)
       call check_real(file, 'contact', 'c0', c%c0, 0.0_rp, 1.0e4_rp)
@@ -239,13 +245,14 @@ contains
       call check_real(file, 'contact', 'stick_length', c%stick_length, 0.0_rp, 1.0_rp)
       call check_real(file, 'contact', 'impact', c%impact, 0.0_rp, 1.0e4_rp)
       call check_real(file, 'contact', 'barrier', c%barrier, 0.0_rp, 2.0_rp)
+      if (abs(c%core) > 0.0_rp) call check_real(file, 'contact', 'core_overlap', c%core, 1.0e-4_rp, 0.5_rp)
    end subroutine read_contact
 
    subroutine write_contact(u_, c)
       integer, intent(in) :: u_
       type(contact_cfg), intent(in) :: c
       model = c%model; r_f = c%r_f; b = c%b; c0 = c%c0; q0 = c%q0; stick_velocity = c%stick_velocity
-      impact = c%impact; barrier = c%barrier; stick_length = c%stick_length
+      impact = c%impact; barrier = c%barrier; stick_length = c%stick_length; core_overlap = c%core
       write (u_, nml=contact)
    end subroutine write_contact
 end module input_body

@@ -573,6 +573,7 @@ contains
       cs%stick_velocity = c%contact%stick_velocity
       cs%stick_length = c%contact%stick_length
       cs%impact = c%contact%impact
+      cs%core = c%contact%core
    end function scene_contact
 
    !> The course of the run the case asks for (energy rows every dt_out when

@@ -192,6 +192,7 @@ CASES: dict[str, Bad] = {
     "body_mu_negative": Bad(BASE + BODY.format("density = 500.0, mu = -0.5"), "body #1", "mu", range=(0.0, 10.0)),
     "contact_model_glue": Bad(BASE + "&contact model = 'glue' /\n", "contact", "model",
                               choices=("dynamic", "repulsive", "noncohesive", "noncohesive_spring", "hertz")),
+    "contact_core_overlap_too_small": Bad(BASE + "&contact core_overlap = 1.0e-6 /\n", "contact", "core_overlap", range=(1.0e-4, 0.5)),
     "gauge_kind_velocity": Bad(BASE + "&gauge kind = 'velocity', x = 0.1 /\n", "gauge #1", "kind",
                                choices=("elevation", "pressure")),
     "damping_strength_negative": Bad(BASE + "&damping x0 = 0.3, x1 = 0.4, strength = -1.0 /\n", "damping",
