@@ -49,9 +49,12 @@ contains
       ! the load on it would spread a face's support over a spacing of travel
       ! and tip a cube early (doc/contact.md)
       ct%c = cs%c0
-      if (ct%c <= 0.0_rp) ct%c = sqrt(merge(0.01_rp, 0.5_rp, cs%core > 0.0_rp)*max(prm%g, 1.0e-3_rp)*prm%h/ &
+      ! without gravity the core (scaled by a weight) is off, and the soft
+      ! term keeps its g/2 default
+      ct%core = 0.0_rp
+      if (prm%g > 0.0_rp) ct%core = cs%core*prm%dp
+      if (ct%c <= 0.0_rp) ct%c = sqrt(merge(0.01_rp, 0.5_rp, ct%core > 0.0_rp)*max(prm%g, 1.0e-3_rp)*prm%h/ &
                                        (0.005_rp*ct%k10b2))
-      ct%core = cs%core*prm%dp
       ct%r_f = cs%r_f
       ct%q0 = cs%q0
       ! q_b = barrier dp/(8h): with the default 2, the touching q_t = dp/(4h)

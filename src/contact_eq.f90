@@ -81,7 +81,7 @@ contains
          fn = m_ij*(a + aimp)*rp_w
          if (ct%core > 0.0_rp .and. ct%po(m) > 0.0_rp) then
             ! the stiff core: where the outlines overlap, a spring that carries
-            ! the weight of the (lighter) floating body on one pair at an
+            ! the weight of the floating body (two: their reduced mass) on one pair at an
             ! overlap of ct%core, with a damper critical for that pair alone
             ! under the body (several pairs side by side damp a face's
             ! motion more than critically: a block lands without bouncing);

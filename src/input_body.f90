@@ -7,7 +7,8 @@ module input_body
                           int_str, real_str
    use errors, only: input_error, alloc_check
    use geom, only: polygon_area, polygon_self_intersects
-   use options, only: contact_names, model_spring, model_repulsive, option_index, shape_names, shape_circle, &
+   use options, only: contact_names, model_spring, model_noncohesive, model_hertz, model_dynamic, option_index, &
+                      shape_names, shape_circle, &
                       shape_box, shape_wedge, shape_polygon, &
                       body_motion_names, motion_floating, motion_prescribed
    implicit none
@@ -235,8 +236,15 @@ contains
       c%model_id = option_index(file, 'contact', 'model', c%model, contact_names)
       c%model = contact_names(c%model_id)
       ! the stiff core under the non-cohesive models by default; Eq. 4 keeps
-      ! its soft, cohesive form, whose artefact that model is there to show
-      if (c%core < -1.0e30_rp) c%core = merge(0.0_rp, 0.01_rp, c%model_id == model_repulsive)
+      ! its soft, cohesive form, whose artefact that model is there to show;
+      ! Hertz and the dynamic boundary have no use for it (left out: -huge)
+      if (c%core < -1.0e30_rp) then
+         c%core = merge(0.01_rp, 0.0_rp, c%model_id == model_noncohesive .or. c%model_id == model_spring)
+      else if (abs(c%core) > 0.0_rp .and. (c%model_id == model_hertz .or. c%model_id == model_dynamic)) then
+         call input_error(file, 'contact', 'core_overlap', "the stiff core belongs to the models of Eq. 2-6 ('repulsive', "// &
+                          "'noncohesive', 'noncohesive_spring'); model '"//trim(c%model)//"' has no use for it: leave it out")
+         return
+      end if
       call check_real(file, 'contact', 'r_f', c%r_f, 0.0_rp, 1.0e3_rp)
       call check_real(file, 'contact', 'b', c%b, 0.0_rp, 100.0_rp)
       call check_real(file, 'contact', 'c0', c%c0, 0.0_rp, 1.0e4_rp)

@@ -192,6 +192,8 @@ CASES: dict[str, Bad] = {
     "body_mu_negative": Bad(BASE + BODY.format("density = 500.0, mu = -0.5"), "body #1", "mu", range=(0.0, 10.0)),
     "contact_model_glue": Bad(BASE + "&contact model = 'glue' /\n", "contact", "model",
                               choices=("dynamic", "repulsive", "noncohesive", "noncohesive_spring", "hertz")),
+    "contact_core_overlap_with_hertz": Bad(BASE + "&contact model = 'hertz', core_overlap = 0.01 /\n", "contact",
+                                           "core_overlap", words=("'hertz'", "leave it out")),
     "contact_core_overlap_too_small": Bad(BASE + "&contact core_overlap = 1.0e-6 /\n", "contact", "core_overlap", range=(1.0e-4, 0.5)),
     "gauge_kind_velocity": Bad(BASE + "&gauge kind = 'velocity', x = 0.1 /\n", "gauge #1", "kind",
                                choices=("elevation", "pressure")),
