@@ -10,6 +10,9 @@
 !>   asserted: a pair force along a face's normal or the slip acts at two
 !>   particle centres that are not on its line, a couple of order f dp that
 !>   belongs to the discretisation.)
+!> - the stiff core (non-cohesive models, bodies overlapping by 0.05 dp): the
+!>   same balance of the forces and of the damping, and a normal force more
+!>   than ten times that of the soft contact alone.
 program test_contact
    use kinds, only: rp, lk
    use constants, only: kind_fixed, kind_floating
@@ -36,8 +39,10 @@ program test_contact
    type(contact_t) :: ct
    real(rp), allocatable :: drho(:)
    logical(lk), allocatable :: drop(:)
-   integer :: k, m, floor_n
+   integer :: k, m, floor_n, b
    logical :: with_floor
+   real(rp) :: gap = 0.8_rp*dp                  ! between the facing rows of neighbouring bodies (dp: touching)
+   real(rp) :: fk(2)
 
    prm%dp = dp
    prm%h = 1.3_rp*dp
@@ -65,6 +70,22 @@ program test_contact
          end if
       end do
    end do
+   ! the stiff core: the bodies' outlines overlap by 0.05 dp
+   gap = 0.95_rp*dp
+   do m = 3, 4
+      do k = 1, 2
+         call make_scene(.false.)
+         cfg%model = models(m)
+         cfg%b = 20.0_rp
+         cfg%core = merge(0.01_rp, 0.0_rp, k == 2)
+         call contact_init(cfg, prm, ct)
+         call contact_sweep(ct, prm, g, p, bodies, drho)
+         call contact_apply(ct, prm, p, bodies)
+         call check_balance(trim(names(m))//merge(', core', ', soft', k == 2))
+         fk(k) = maxval([(norm2(bodies(b)%f_normal), b=1, 3)])
+      end do
+      call check(fk(2) > 10.0_rp*fk(1), trim(names(m))//': the core carries the overlap')
+   end do
    call test_summary('test_contact')
 
 contains
@@ -78,8 +99,8 @@ contains
       real(rp) :: c(2, 3), v(2, 3), om(3)
       integer :: b, n, s, q
       c(:, 1) = [0.5_rp*side, 0.5_rp*side + dp]
-      c(:, 2) = c(:, 1) + [side + 0.8_rp*dp, 0.3_rp*dp]
-      c(:, 3) = c(:, 1) + [0.25_rp*dp, side + 0.8_rp*dp]
+      c(:, 2) = c(:, 1) + [side + gap, 0.3_rp*dp]
+      c(:, 3) = c(:, 1) + [0.25_rp*dp, side + gap]
       v(:, 1) = [0.02_rp, -0.01_rp]; v(:, 2) = [-0.05_rp, 0.0_rp]; v(:, 3) = [0.01_rp, -0.04_rp]
       om = [0.3_rp, -0.2_rp, 0.5_rp]
       n = 3*4*(ns - 1)
