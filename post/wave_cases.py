@@ -40,12 +40,15 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
                paddle: str = "piston", out_dir: str = "OUT/waves", gauges_at=(2.0, 2.25, 2.5, 2.75, 3.0),
                damping_len: float = 1.5, periods_after: float = 4.0, extra_run: str = "",
                extra_numerics: str = "", case_name: str = "waves", second_order: bool = False,
-               ramp_periods: float = 2.0, t_end: float | None = None, h_over_dp: float | None = None) -> Flume:
+               ramp_periods: float = 2.0, t_end: float | None = None, h_over_dp: float | None = None,
+               extra_wavemaker: str = "") -> Flume:
     """A regular-wave flume: the paddle, then gauges at the given multiples of the
     wavelength L, then a damping zone damping_len L long. The run lasts until the
     wave front (group speed) has passed the last gauge and periods_after more periods.
     ``h_over_dp`` is written to ``&numerics`` when given (else the solver's default,
-    sqrt 2); the bed and end wall are as thick as its kernel's reach."""
+    sqrt 2); the bed and end wall are as thick as its kernel's reach. With ``damping_len = 0``
+    the flume ends in a bare vertical wall (no &damping group); ``extra_wavemaker`` goes
+    into the &wavemaker group."""
     T = period_for_kh(kh, depth)
     k = kh / depth
     L = 2.0 * math.pi / k
@@ -95,12 +98,98 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
 &wavemaker
   paddle = '{paddle}', wave = 'regular', x0 = {x0:.6f}, depth = {depth}
   height = {H:.6f}, period = {T:.6f}, ramp_periods = {ramp_periods}, max_stroke = 0.2
-  second_order = {'.true.' if second_order else '.false.'}
+  second_order = {'.true.' if second_order else '.false.'}{chr(10) + extra_wavemaker if extra_wavemaker else ''}
 /
 {gauges}
-&damping x0 = {damp[0]:.6f}, x1 = {damp[1]:.6f}, strength = {max(10.0, 10.0 / T):.3f} /
 """
+    if damping_len > 0.0:
+        text += f"&damping x0 = {damp[0]:.6f}, x1 = {damp[1]:.6f}, strength = {max(10.0, 10.0 / T):.3f} /\n"
     return Flume(text, T, cg, L, H, depth, x0, gx, t_end, damp)
+
+
+@dataclass
+class AbsorptionFlume:
+    """A flume whose far end is a piston making a regular wave that runs to the paddle,
+    which makes no wave of its own (it rests) and absorbs (or not). Two gauges a quarter
+    wavelength apart in front of the paddle separate the wave that comes in from the
+    wave the paddle returns; :func:`paddle_reflection_coefficient` reads Kr from them."""
+
+    text: str
+    period: float
+    length: float          # wavelength L
+    height: float
+    depth: float
+    x0: float              # paddle face at rest
+    gauges: list[float]    # the two gauges [m]
+    window: tuple[float, float]   # the time window of the separation [s]
+
+
+def absorption_case(kh: float, *, depth: float = 0.25, steepness: float = 0.02, dp: float = 0.0125,
+                    paddle: str = "piston", absorb: bool = True, gain_kh: float | None = None,
+                    flume_waves: float = 3.5, periods: float = 4.0, out_dir: str = "OUT/absorb",
+                    case_name: str = "absorb", h_over_dp: float | None = 1.6, extra_numerics: str = "") -> AbsorptionFlume:
+    """The paddle (at rest: its wave starts after the run) at x0, gauges at 0.5 and
+    0.75 L in front of it, and ``flume_waves`` wavelengths away a piston wall oscillating
+    with the Biesel stroke of a wave of steepness ``steepness``. ``gain_kh`` tunes the
+    absorber to another period than the wave's (its kh in this depth). The separation
+    window is ``periods`` periods long and starts two periods after the wave the paddle
+    returns has passed the far gauge (at the group speed), and the run ends with it: the
+    wave that the far end returns in its turn comes to the gauges after the window, so a
+    paddle that does not absorb is measured too (Kr near 1)."""
+    T = period_for_kh(kh, depth)
+    k = kh / depth
+    L = 2.0 * math.pi / k
+    H = steepness * L
+    cg = 0.5 * (1.0 + 2.0 * kh / math.sinh(2.0 * kh)) * L / T
+    hs = 2.0 * (math.cosh(2.0 * kh) - 1.0) / (math.sinh(2.0 * kh) + 2.0 * kh)   # Biesel H/S of a piston
+    amp = 0.5 * H / hs
+    h = (math.sqrt(2.0) if h_over_dp is None else h_over_dp) * dp
+    layers = math.ceil(2.0 * h / dp - 1e-9)
+    thick = layers * dp
+    x0 = 0.11 + thick
+    x_far = x0 + math.ceil(flume_waves * L / dp) * dp
+    gx = [x0 + 0.5 * L, x0 + 0.75 * L]
+    t_back = (x_far - x0) / cg + (gx[1] - x0) / cg
+    t_end = t_back + (periods + 2.0) * T
+    top = 2.0 * depth
+    T_gain = T if gain_kh is None else period_for_kh(gain_kh, depth)
+    text = f"""! Absorption at the paddle: a regular wave (kh = {kh}, depth {depth} m, T = {T:.6f} s,
+! L = {L:.6f} m, H = {H:.6f} m) made by a piston wall at the far end, {flume_waves} L away,
+! runs to the paddle, which rests and {"absorbs" if absorb else "does not absorb"}. Gauges at 0.5 and 0.75 L.
+! Made by post/wave_cases.py (absorption_case).
+&run
+  case_name = '{case_name}'
+  t_end = {t_end:.6f}
+  dt_out = {max(T / 2.0, 0.1):.6f}
+  out_dir = '{out_dir}'
+  overwrite = .true.
+  gauge_interval = {T / 40.0:.6f}
+/
+&domain
+  xmin = 0.0, xmax = {x_far + thick + 2.0 * amp + 0.02:.6f}, ymin = {-thick - 0.01:.6f}, ymax = {top + 0.05:.6f}
+/
+&fluid
+  rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = {G}
+/
+&numerics
+  dp = {dp}{"" if h_over_dp is None else f"{chr(10)}  h_over_dp = {h_over_dp}"}
+  viscosity = 'artificial', alpha = 0.01
+  diffusion = 'fourtakas', delta = 0.1
+{extra_numerics}
+/
+&box role = 'solid', xmin = 0.0, xmax = {x_far + thick + 2.0 * amp:.6f}, ymin = {-thick:.6f}, ymax = 0.0 /
+&box role = 'solid', xmin = {x_far:.6f}, xmax = {x_far + thick:.6f}, ymin = 0.0, ymax = {top:.6f},
+  motion = 'oscillate', amplitude = {-amp:.6f}, 0.0, period = {T:.6f} /
+&box role = 'fluid', xmin = {x0:.6f}, xmax = {x_far:.6f}, ymin = 0.0, ymax = {depth:.6f} /
+&wavemaker
+  paddle = '{paddle}', wave = 'regular', x0 = {x0:.6f}, depth = {depth}
+  height = {H:.6f}, period = {T_gain:.6f}, t_start = {t_end + 1.0:.6f}
+  absorb = {'.true.' if absorb else '.false.'}
+/
+&gauge kind = 'elevation', x = {gx[0]:.6f} /
+&gauge kind = 'elevation', x = {gx[1]:.6f} /
+"""
+    return AbsorptionFlume(text, T, L, H, depth, x0, gx, (t_end - periods * T, t_end))
 
 
 def main() -> None:

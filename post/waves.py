@@ -744,6 +744,19 @@ def decaying_wave_fit(t: np.ndarray, etas: Sequence[np.ndarray], xs: Sequence[fl
 # --------------------------------------------------------------- case settings
 
 
+def paddle_reflection_coefficient(t: np.ndarray, eta1: np.ndarray, eta2: np.ndarray, dx: float, depth: float,
+                                  period: float) -> Reflection:
+    """The reflection coefficient of a paddle at small x from two gauges dx apart in
+    front of it (gauge 1 nearer the paddle): the wave going to the paddle (towards -x)
+    is the incident one here, the wave leaving it the reflected one. Goda and Suzuki's
+    separation at the wave's frequency (:func:`reflection_two_gauge`, whose incident
+    wave runs towards +x), the roles swapped."""
+    r = reflection_two_gauge(t, eta1, eta2, dx, depth, frequency=1.0 / period)
+    kr = math.sqrt(r.E_i / r.E_r) if r.E_r > 0.0 else math.nan
+    return Reflection(Kr=kr, E_i=r.E_r, E_r=r.E_i, Hm0_i=r.Hm0_r, Hm0_r=r.Hm0_i, f=r.f, S_i=r.S_r, S_r=r.S_i,
+                      f_masked=r.f_masked, fmin=r.fmin, fmax=r.fmax)
+
+
 def _group(nml, name: str):
     group = nml.get(name) if nml is not None else None
     if isinstance(group, list):

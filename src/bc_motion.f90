@@ -13,7 +13,7 @@ module bc_motion
    use input_check, only: int_str
    implicit none
    private
-   public :: wall_motion_t, walls_t, walls_init, motion_apply
+   public :: wall_motion_t, walls_t, walls_init, motion_apply, motion_offset
 
    !> The motion of one geometry object (a wall, or the paddle).
    type :: wall_motion_t
@@ -79,4 +79,29 @@ contains
          end associate
       end do
    end subroutine motion_apply
+
+   !> The largest distance [m] between a moving wall particle and where the
+   !> walls' laws put it at time t (a restart's check).
+   function motion_offset(walls, p, t) result(d)
+      type(walls_t), intent(in) :: walls
+      type(particles_t), intent(in) :: p
+      real(rp), intent(in) :: t
+      real(rp) :: d
+      type(particles_t) :: q
+      integer :: i
+      q%n = p%n
+      q%kind = p%kind(1:p%n)
+      q%body = p%body(1:p%n)
+      q%xb = p%xb(:, 1:p%n)
+      q%x = p%x(:, 1:p%n)
+      q%v = p%v(:, 1:p%n)
+      q%mdbc = .false.
+      call motion_apply(walls, q, t)
+      d = 0.0_rp
+      do i = 1, p%n
+         if (p%kind(i) /= kind_moving) cycle
+         if (p%body(i) > size(walls%obj)) cycle
+         d = max(d, norm2(q%x(:, i) - p%x(:, i)))
+      end do
+   end function motion_offset
 end module bc_motion

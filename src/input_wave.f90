@@ -30,7 +30,7 @@ module input_wave
       real(rp) :: tp = 0.0_rp              !< irregular: peak period [s]
       real(rp) :: gamma = 3.3_rp           !< irregular: JONSWAP peak enhancement [-]
       integer :: seed = 1                  !< irregular: random phases
-      real(rp) :: duration = 0.0_rp        !< irregular: length of the signal [s] (0: &run t_end)
+      real(rp) :: duration = 0.0_rp        !< the wave's length after t_start, ramped down at its end [s] (0: no end)
       real(rp) :: f_lo = 0.5_rp            !< irregular: lowest component / peak frequency [-]
       real(rp) :: f_hi = 3.0_rp            !< irregular: highest component / peak frequency [-]
       character(len=path_len) :: signal_file = ''  !< 'file': two columns, time [s] and displacement [m]
@@ -41,6 +41,8 @@ module input_wave
       real(rp) :: top = 0.0_rp             !< top of the paddle [m] (0: 1.5 depth above the bed)
       integer :: layers = 0                !< paddle thickness in particle rows (0: enough for 2h)
       real(rp) :: y_bed = 0.0_rp           !< bed level at the paddle; the flap's hinge [m]
+      logical :: absorb = .false.          !< active absorption of the waves that come back to the paddle
+      real(rp) :: absorb_time = 0.0_rp     !< absorber's drift control and mean-level time [s] (0: 5 T or 5 Tp)
    end type wavemaker_cfg
 
    type :: gauge_cfg
@@ -59,12 +61,12 @@ module input_wave
    ! &wavemaker
    character(len=name_len) :: paddle, wave
    real(rp) :: x0, depth, height, period, hs, tp, gamma, duration, f_lo, f_hi, ramp_periods, ramp_time, &
-               max_stroke, top, y_bed, t_start
-   logical :: second_order
+               max_stroke, top, y_bed, t_start, absorb_time
+   logical :: second_order, absorb
    integer :: seed, layers
    character(len=path_len) :: signal_file
    namelist /wavemaker/ paddle, wave, x0, depth, height, period, second_order, hs, tp, gamma, seed, duration, &
-      f_lo, f_hi, signal_file, ramp_periods, ramp_time, max_stroke, top, layers, y_bed, t_start
+      f_lo, f_hi, signal_file, ramp_periods, ramp_time, max_stroke, top, layers, y_bed, t_start, absorb, absorb_time
    ! &gauge
    character(len=name_len) :: kind
    real(rp) :: x, y
@@ -81,7 +83,7 @@ contains
       second_order = c%second_order; hs = c%hs; tp = c%tp; gamma = c%gamma; seed = c%seed
       duration = c%duration; f_lo = c%f_lo; f_hi = c%f_hi; signal_file = c%signal_file
       ramp_periods = c%ramp_periods; ramp_time = c%ramp_time; max_stroke = c%max_stroke; top = c%top
-      layers = c%layers; y_bed = c%y_bed; t_start = c%t_start
+      layers = c%layers; y_bed = c%y_bed; t_start = c%t_start; absorb = c%absorb; absorb_time = c%absorb_time
    end subroutine wm_to_vars
 
    subroutine wm_from_vars(c)
@@ -90,7 +92,7 @@ contains
       c%second_order = second_order; c%hs = hs; c%tp = tp; c%gamma = gamma; c%seed = seed
       c%duration = duration; c%f_lo = f_lo; c%f_hi = f_hi; c%signal_file = signal_file
       c%ramp_periods = ramp_periods; c%ramp_time = ramp_time; c%max_stroke = max_stroke; c%top = top
-      c%layers = layers; c%y_bed = y_bed; c%t_start = t_start
+      c%layers = layers; c%y_bed = y_bed; c%t_start = t_start; c%absorb = absorb; c%absorb_time = absorb_time
    end subroutine wm_from_vars
 
    !> The group alone: choices and ranges. Depth, steepness and stroke are
@@ -126,6 +128,7 @@ contains
       case (wave_regular)
          call check_real(file, g, 'height', c%height, 0.0_rp, c%depth, lo_open=.true.)
          call check_real(file, g, 'period', c%period, 0.0_rp, 1.0e3_rp, lo_open=.true.)
+         call check_real(file, g, 'duration', c%duration, 0.0_rp, 1.0e6_rp)
       case (wave_irregular)
          call check_real(file, g, 'hs', c%hs, 0.0_rp, c%depth, lo_open=.true.)
          call check_real(file, g, 'tp', c%tp, 0.0_rp, 1.0e3_rp, lo_open=.true.)
@@ -139,6 +142,10 @@ contains
       case (wave_file)
          if (len_trim(c%signal_file) == 0) call input_error(file, g, 'signal_file', &
                                                             "required with wave = 'file' (time [s], displacement [m])")
+         if (c%absorb) call input_error(file, g, 'absorb', "needs the wave the paddle makes: wave = 'regular' "// &
+                                        "or 'irregular' (the elevation of a signal file's wave is not known)")
+         if (c%duration > 0.0_rp) call input_error(file, g, 'duration', &
+                                                   "applies to wave = 'regular' or 'irregular' (a signal file ends itself)")
       case default
          call input_error(file, g, 'wave', 'no checks for wave '//trim(c%wave))
       end select
@@ -151,6 +158,7 @@ contains
       if (c%max_stroke <= 0.0_rp) c%max_stroke = 0.8_rp*c%depth
       call check_real(file, g, 'top', c%top, 0.0_rp, 1.0e4_rp)
       call check_int(file, g, 'layers', c%layers, 0, 100)
+      call check_real(file, g, 'absorb_time', c%absorb_time, 0.0_rp, 1.0e4_rp)
    end subroutine read_wavemaker
 
    subroutine write_wavemaker(u, c)

@@ -91,6 +91,8 @@ contains
       call h5_attr_write(f, 'n_fluid0', st%n_fluid0)
       call h5_attr_write(f, 'h_swl', st%h_swl)
       call h5_attr_write(f, 'y_surface', st%y_surface)
+      call h5_attr_write(f, 'pad_xc', st%pad_xc)
+      call h5_attr_write(f, 'pad_eta_mean', st%pad_eta_mean)
       if (size(bodies) > 0) then
          allocate (bs(6, size(bodies)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'bs in checkpoint_write')
@@ -100,6 +102,9 @@ contains
          call h5_write(f, 'bodies', bs)
       end if
       if (size(mem, 2) > 0) call h5_write(f, 'contact_memory', mem)
+      if (allocated(st%pad_hist)) then
+         if (size(st%pad_hist, 2) > 0) call h5_write(f, 'pad_history', st%pad_hist)
+      end if
       call h5_attr_write(f, 'dp', dp)
       call h5_attr_write(f, 'n_bodies', size(bodies))
       ! each rank's particles, summed over the ranks (exact: every part is below 2^31)
@@ -200,6 +205,11 @@ contains
       call h5_attr_read(f, 'n_fluid0', st%n_fluid0)
       call h5_attr_read(f, 'h_swl', st%h_swl)
       call h5_attr_read(f, 'y_surface', st%y_surface)
+      ! checkpoints from before the absorbing paddle: no correction
+      st%pad_xc = 0.0_rp
+      st%pad_eta_mean = 0.0_rp
+      if (h5_attr_exists(f, 'pad_xc')) call h5_attr_read(f, 'pad_xc', st%pad_xc)
+      if (h5_attr_exists(f, 'pad_eta_mean')) call h5_attr_read(f, 'pad_eta_mean', st%pad_eta_mean)
       if (size(bodies) > 0) then
          allocate (bs(6, size(bodies)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'bs in checkpoint_read')
@@ -210,6 +220,11 @@ contains
             bodies(b)%v = bs(4:5, b)
             bodies(b)%omega = bs(6:6, b)
          end do
+      end if
+      if (h5_exists(f, 'pad_history')) then
+         allocate (st%pad_hist(2, h5_length(f, 'pad_history')), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'pad_hist in checkpoint_read')
+         call h5_read(f, 'pad_history', st%pad_hist)
       end if
       if (h5_exists(f, 'contact_memory')) then
          allocate (mem(4, h5_length(f, 'contact_memory')), stat=ist, errmsg=emsg)

@@ -22,7 +22,7 @@ module run_setup
    use decomp, only: decomp_init, decomp_owner, decomp_count, decomp_balance, decomp_set_edges, decomp_lo, &
                      decomp_hi
    use fluid_forces, only: forces_init
-   use bc_motion, only: walls_init, motion_apply
+   use bc_motion, only: walls_init, motion_apply, motion_offset
    use io_hdf5, only: h5_start
    use io_files, only: outdir_prepare, dir_writable, text_hash, file_text, energy_open
    use io_snapshot, only: snapshot_index_rebuild
@@ -33,7 +33,8 @@ module run_setup
    use errors, only: fatal, input_error, alloc_check
    use wave_paddle, only: paddle_t
    use scene_flume, only: scene_paddle, armour_csv_header
-   use probe_gauges, only: gauges_count
+   use probe_gauges, only: gauges_count, gauges_init
+   use options, only: gauge_elevation
    use io_armour, only: armour_csv_write
    use solver, only: run_t
    implicit none
@@ -103,7 +104,7 @@ contains
       r%n_kind = [particles_count_kind(r%p, kind_fluid), particles_count_kind(r%p, kind_fixed), &
                 particles_count_kind(r%p, kind_moving), particles_count_kind(r%p, kind_floating), &
                 particles_count_kind(r%p, kind_filter)]
-      call walls_init(scene_walls(c), paddle, r%n_kind(3) > 0, r%walls)
+      call walls_setup(r, c, paddle)
       call scene_gauges(c, r%gt)
       r%zone = scene_damping(c)
       r%por = scene_porous(c)
@@ -136,6 +137,40 @@ contains
       end if
       call timer_stop(t_setup)
    end subroutine setup_run
+
+   !> The moving walls and the paddle; an absorbing paddle's gauge; on
+   !> restart, the check that the walls stand where the case's laws put them.
+   subroutine walls_setup(r, c, paddle)
+      type(run_t), intent(inout) :: r
+      type(case_cfg), intent(in) :: c
+      type(paddle_t), intent(in) :: paddle
+      call walls_init(scene_walls(c), paddle, r%n_kind(3) > 0, r%walls)
+      if (r%walls%paddle%absorb) then
+         ! read where the kernel's support holds only water: 2h + dp in front of the face
+         r%walls%paddle%gauge_offset = 2.0_rp*r%prm%h + r%prm%dp
+         r%walls%paddle%delay = r%walls%paddle%gauge_offset/r%walls%paddle%celerity
+         call gauges_init(r%pg, [gauge_elevation], [r%walls%paddle%x_face], [0.0_rp])
+      end if
+      if (c%run%restart .and. r%walls%moving) call check_walls_at_restart(r, c)
+   end subroutine walls_setup
+
+   !> A restart may change the wavemaker (the next step of a test series)
+   !> only where the paddle of the checkpoint stands where the case's
+   !> wavemaker puts it: while it rests, before its start or after the end of
+   !> a wave with a duration. Otherwise the paddle would jump.
+   subroutine check_walls_at_restart(r, c)
+      type(run_t), intent(inout) :: r
+      type(case_cfg), intent(in) :: c
+      real(rp) :: d
+      r%walls%paddle%xc = r%st%pad_xc
+      r%walls%paddle%tc = r%st%t
+      r%walls%paddle%uc = 0.0_rp
+      d = motion_offset(r%walls, r%p, r%st%t)
+      if (d > 1.0e-3_rp*r%prm%dp) call input_error(c%file, 'wavemaker', '', 'the moving walls of '//r%out// &
+         '/checkpoint.h5 stand up to '//real_str(d)//' m from where the case puts them at t = '// &
+         real_str(r%st%t)//' s: a restart may change the paddle (or a moving wall) only while it rests, '// &
+         'before its t_start or after the end of a wave with a duration')
+   end subroutine check_walls_at_restart
 
    !> Every rank read the same case file; otherwise all stop with one message
    !> (ranks that disagree would wait for each other for ever).

@@ -21,6 +21,9 @@ module run_state
       integer :: n_fluid0 = 0         !< fluid particles at the start of the run
       real(rp) :: h_swl = 0.0_rp      !< still-water depth the run was set up with [m]
       real(rp) :: y_surface = 0.0_rp  !< still-water surface level [m]
+      real(rp) :: pad_xc = 0.0_rp     !< absorbing paddle: displacement of its correction [m]
+      real(rp) :: pad_eta_mean = 0.0_rp   !< absorbing paddle: the slow mean of the elevation it measures [m]
+      real(rp), allocatable :: pad_hist(:, :)   !< absorbing paddle: (time [s], elevation [m]) it measured lately
       ! not restored on restart: statistics of this process
       integer :: istep0 = 0           !< first step of this process
       real(rp) :: wall0 = 0.0_rp      !< wall clock at the start of stepping [s]

@@ -518,6 +518,8 @@ contains
             end if
             if (wm%second_order) amp2 = piston_second_order(wm%height, kd, wm%depth)
             t_ramp = wm%ramp_periods*wm%period
+            pad%eta1 = 0.5_rp*wm%height
+            pad%t_stop = wm%duration
             lines = '  wavemaker: '//trim(wm%paddle)//', regular H = '//real_str(wm%height)//' m, T = '// &
                     real_str(wm%period)//' s, depth '//real_str(wm%depth)//' m: L = '//real_str(2.0_rp*pi/k)// &
                     ' m, kd = '//real_str(kd)//', stroke '//real_str(2.0_rp*amp1)//' m'
@@ -530,6 +532,12 @@ contains
                                        nwaves, wm%f_lo, wm%f_hi)
             sig%t = ts
             sig%x = xs
+            if (wm%absorb) then
+               pad%sig_eta%t = ts
+               pad%sig_eta%x = eta
+            end if
+            ! a wave with a set length ends at rest with its signal
+            if (wm%duration > 0.0_rp) pad%t_stop = ts(size(ts))
             t_ramp = wm%ramp_periods*wm%tp
             hm0 = signal_hm0(eta, ts(2) - ts(1))
             lines = '  wavemaker: '//trim(wm%paddle)//', irregular JONSWAP Hs = '//real_str(wm%hs)//' m, Tp = '// &
@@ -558,8 +566,43 @@ contains
          end if
          if (t_ramp > 0.0_rp) lines = lines//', ramp '//real_str(t_ramp)//' s'
          if (wm%t_start > 0.0_rp) lines = lines//', starting at t = '//real_str(wm%t_start)//' s'
+         if (pad%t_stop > 0.0_rp) then
+            if (pad%t_stop < 2.0_rp*t_ramp) call input_error(file, 'wavemaker', 'duration', 'the wave of '// &
+               real_str(pad%t_stop)//' s is shorter than its two ramps ('//real_str(2.0_rp*t_ramp)// &
+               ' s): lengthen duration or shorten the ramp')
+            lines = lines//', ending (at rest) at t = '//real_str(wm%t_start + pad%t_stop)//' s'
+         end if
       end associate
+      if (c%absorb) call absorber(c, g, pad, lines)
    end subroutine scene_paddle
+
+   !> The active absorber of the paddle: its gain G = omega / (H/S), the
+   !> linear gain that absorbs a wave of the (peak) period without a
+   !> reflection (sqrt(g/d) for a piston in shallow water), and its time scale.
+   subroutine absorber(wm, g, pad, lines)
+      type(wavemaker_cfg), intent(in) :: wm
+      real(rp), intent(in) :: g
+      type(paddle_t), intent(inout) :: pad
+      character(len=:), allocatable, intent(inout) :: lines
+      real(rp) :: period, omega, kd, tra
+      period = wm%period
+      if (wm%wave_id == wave_irregular) period = wm%tp
+      omega = 2.0_rp*pi/period
+      kd = wave_number(omega, wm%depth, g)*wm%depth
+      if (wm%paddle_id == paddle_piston) then
+         tra = piston_transfer(kd)
+      else
+         tra = flap_transfer(kd)
+      end if
+      pad%absorb = .true.
+      pad%gain = omega/tra
+      pad%celerity = omega*wm%depth/kd
+      pad%tau = wm%absorb_time
+      if (pad%tau <= 0.0_rp) pad%tau = 5.0_rp*period
+      pad%x_face = wm%x0
+      lines = lines//new_line('a')//'  absorbing paddle: gain '//real_str(pad%gain)//' 1/s (sqrt(g/d) = '// &
+              real_str(sqrt(g/wm%depth))//'), drift and mean-level time '//real_str(pad%tau)//' s'
+   end subroutine absorber
    !> The parameters of the armour layer for the '#' line of OUT/armour.csv.
    function armour_csv_header(a, layer, rho_water) result(line)
       type(armour_cfg), intent(in) :: a

@@ -39,6 +39,7 @@ module solver
    use porous, only: porous_t, porous_point, porous_field, n_por
    use probe_gauges, only: gauges_t, gauges_count, gauges_open, gauges_sums, gauges_values, gauges_write, &
                            gauges_close
+   use wave_paddle, only: paddle_motion, paddle_target_eta, paddle_absorb_set, paddle_absorb_advance
    implicit none
    private
    public :: run_t, solver_run
@@ -63,6 +64,8 @@ module solver
       type(walls_t) :: walls                    !< moving walls and the paddle: their laws of time
       type(decomp_t) :: dc                      !< the slabs of the ranks
       type(gauges_t) :: gt                      !< the gauges, their file and scratch
+      type(gauges_t) :: pg                      !< absorbing paddle: the elevation gauge in front of its face
+      real(rp) :: eta_pad = 0.0_rp              !< absorbing paddle: the elevation measured before this step [m]
       type(damping_t) :: zone                   !< the absorbing zone
       type(porous_t) :: por                     !< the porous regions
       real(rp) :: t_next_gauge = 0.0_rp
@@ -96,10 +99,13 @@ contains
       written = .true.
       do while (.not. done)
          call neighbours(r)
+         if (r%walls%paddle%absorb) call absorb_measure(r)
          call step_advance(r%prm, r%por, r%g, r%p, r%halo, r%w, r%ss, r%walls, r%bodies, r%ct, r%st%t, r%st%istep + 1, r%st%dt)
          if (r%st%dt > r%ss%dt_limit) call refuse_fixed_step(r, r%ss%dt_limit)
          if (size(r%bodies) > 0) call contact_memory_advance(r%ct, r%bodies, r%st%dt)
          if (r%zone%on) call damping_apply(r%zone, r%p, r%st%dt)
+         if (r%walls%paddle%absorb) call paddle_absorb_advance(r%walls%paddle, r%st%dt, r%eta_pad, r%st%pad_xc, &
+                                                               r%st%pad_eta_mean)
          r%st%t = r%st%t + r%st%dt
          r%st%istep = r%st%istep + 1
          call gauges_due(r)
@@ -186,6 +192,29 @@ contains
       call gauges_values(r%gt, r%prm, acc, val)
       call gauges_write(r%gt, r%st%t, val)
    end subroutine gauges_row
+
+   !> Before a step of an absorbing paddle: the elevation in front of its
+   !> face (summed over the ranks, as a gauge) and the correction of its
+   !> motion over the step. Where the point is dry, no correction.
+   subroutine absorb_measure(r)
+      type(run_t), intent(inout) :: r
+      real(rp), allocatable :: acc(:)
+      real(rp) :: val(1), xf, uf
+      associate (pad => r%walls%paddle)
+         ! the face now, with the correction it has had so far
+         pad%xc = r%st%pad_xc
+         pad%tc = r%st%t
+         pad%uc = 0.0_rp
+         call paddle_motion(pad, r%st%t, xf, uf)
+         r%pg%x(1) = pad%x_face + xf + pad%gauge_offset
+         call gauges_sums(r%pg, r%prm, r%g, r%p, r%por, acc)
+         call comm_sum(acc)
+         call gauges_values(r%pg, r%prm, acc, val)
+         r%eta_pad = val(1)
+         if (ieee_is_nan(r%eta_pad)) r%eta_pad = r%st%pad_eta_mean + paddle_target_eta(pad, r%st%t)
+         call paddle_absorb_set(pad, r%st%t, r%eta_pad, r%st%pad_xc, r%st%pad_eta_mean, r%st%pad_hist)
+      end associate
+   end subroutine absorb_measure
 
    !> Before a step: slab edges (every balance_every steps), removals,
    !> migration, the sort by cell, the halo, the Shepard filter when due.

@@ -72,6 +72,11 @@ BAD = {
     "signal_file_missing": (edit("wave = 'regular'", "wave = 'file', signal_file = 'no_such_signal.txt'",
                                  WAVE_BASE), "wavemaker", "signal_file", ("no_such_signal.txt",)),
     "damping_outside_domain": (edit("x1 = 2.94", "x1 = 3.5", WAVE_BASE), "damping", "x0, x1", ("inside",)),
+    # the absorber needs the wave the paddle makes; a wave with an end needs room for its ramps
+    "absorb_with_signal_file": (edit("wave = 'regular'", "wave = 'file', signal_file = 's.txt', absorb = .true.",
+                                     WAVE_BASE), "wavemaker", "absorb", ("'regular'", "'irregular'")),
+    "wave_shorter_than_its_ramps": (edit("period = 1.0 /", "period = 1.0, duration = 3.0 /", WAVE_BASE),
+                                    "wavemaker", "duration", ("ramps", "4.00000")),
     "armour_too_many_units": (edit("density = 2200.0 /", "density = 2200.0, n_units = 40 /", BW_BASE), "armour",
                               "n_units", ("at most", "fit")),
     "armour_unit_too_big": (edit("dn = 0.04", "dn = 0.5", BW_BASE), "armour", "dn", ("fits",)),
@@ -420,6 +425,109 @@ def test_damping_zone_reflection(tmp_path: Path, mbsph: Path) -> None:
     assert r.Kr < 0.10, f"Kr = {r.Kr:.3f}"
 
 
+
+
+# ------------------------------------------------------------ the absorbing paddle
+
+@pytest.mark.parametrize("absorb", [True, False], ids=["absorbing", "rigid"])
+def test_absorbing_paddle_reflection(absorb: bool, tmp_path: Path, mbsph: Path) -> None:
+    """A regular wave (kh = 1.2, H/L = 0.02) made by a piston wall 3.5 wavelengths away
+    runs to the paddle, which rests. Two gauges a quarter wavelength in front of it
+    separate the wave that comes in from the one it returns (Goda and Suzuki) over four
+    periods, before the far end's own reflection comes back: the absorbing paddle returns
+    less than 5 % of the wave; the same paddle not absorbing returns more than 85 % (the
+    measurement sees a reflection; the rest is the wave's loss on its way, 12.5
+    particles over the depth)."""
+    from post.wave_cases import absorption_case
+    from post.waves import paddle_reflection_coefficient
+    f = absorption_case(1.2, dp=0.25 / 12.5, absorb=absorb, out_dir="OUT")
+    proc, out = run_case(f.text, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    d = read_gauges_csv(out)
+    m = (d["time"] >= f.window[0]) & (d["time"] <= f.window[1])
+    r = paddle_reflection_coefficient(d["time"][m], d["eta_1"][m], d["eta_2"][m], f.gauges[1] - f.gauges[0],
+                                      f.depth, f.period)
+    # the wave came in at about its height
+    assert r.Hm0_i > 0.8 * f.height, f"incoming {r.Hm0_i:.4f} m, the wave {f.height:.4f} m"
+    if absorb:
+        assert r.Kr < 0.05, f"Kr = {r.Kr:.3f}"
+    else:
+        assert r.Kr > 0.85, f"Kr = {r.Kr:.3f}"
+
+
+def test_absorbing_paddle_makes_the_same_wave(tmp_path: Path, mbsph: Path) -> None:
+    """The absorber must not take from the wave the paddle makes: in a flume with a
+    damping zone, the first-harmonic height 1 and 1.5 wavelengths from an absorbing
+    paddle is that of the same paddle not absorbing within 2 % (kh = 1.2, 12.5 particles
+    over the depth; both runs the same numerics, so the wave's decay cancels)."""
+    heights = {}
+    for absorb in (False, True):
+        f, text = flume(1.2, tmp_path, depth=0.25, dp=0.02, gauges_at=(1.0, 1.5), damping_len=1.0,
+                        extra_wavemaker="  absorb = .true." if absorb else "")
+        run_dir = tmp_path / str(absorb)
+        run_dir.mkdir()
+        proc, out = run_case(text, run_dir, binary=mbsph, name=CASE)
+        assert_ok(proc)
+        heights[absorb] = [measured(out, f, k).H for k in (1, 2)]
+    for k in range(2):
+        rel = heights[True][k] / heights[False][k] - 1.0
+        assert abs(rel) < 0.02, f"gauge {k + 1}: {heights[True][k]:.5f} m absorbing, {heights[False][k]:.5f} m not"
+
+
+def absorbing_flume_text(max_steps: int, restart: bool = False) -> str:
+    """A coarse flume (kh = 1.2, 10 particles over the depth) whose absorbing paddle
+    makes a wave group of 3 periods; snapshots every 0.05 s."""
+    from post.wave_cases import flume_case
+    f = flume_case(1.2, depth=0.25, dp=0.025, out_dir="OUT", gauges_at=(0.5, 1.0), damping_len=1.0,
+                   ramp_periods=1.0, extra_wavemaker="  duration = 3.0\n  absorb = .true.")
+    text = f.text.replace("overwrite = .true.", f"overwrite = .true., max_steps = {max_steps}, "
+                          f"restart = {'.true.' if restart else '.false.'}")
+    return re.sub(r"dt_out = [0-9.]+", "dt_out = 0.05", text)
+
+
+def test_absorbing_paddle_restart_is_bit_identical(tmp_path: Path, mbsph: Path) -> None:
+    """The absorber's state (its correction, mean level and recent elevations) is in the
+    checkpoint: a run restarted half-way ends bit for bit as the run not interrupted."""
+    from test_cases import assert_same_datasets, read_attrs, snapshots
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    proc, out_a = run_case(absorbing_flume_text(1600), tmp_path / "a", binary=mbsph, name=CASE)
+    assert_ok(proc)
+    proc, out_b = run_case(absorbing_flume_text(800), tmp_path / "b", binary=mbsph, name=CASE)
+    assert_ok(proc)
+    proc, _ = run_case(absorbing_flume_text(1600, restart=True), tmp_path / "b", binary=mbsph, name=CASE)
+    assert_ok(proc)
+    final_a, final_b = snapshots(out_a)[-1], snapshots(out_b)[-1]
+    assert read_attrs(final_a)["step"] == read_attrs(final_b)["step"] == 1600
+    assert_same_datasets(final_a, final_b)
+
+
+def test_restart_changes_the_wave_only_while_the_paddle_rests(tmp_path: Path, mbsph: Path) -> None:
+    """A test series continues a run under a new wave. Restarted while the paddle
+    moves, with another wave, the run is refused (the paddle would jump), naming
+    &wavemaker; restarted after the wave's end (the paddle at rest again) with a
+    new wave that starts later, it runs."""
+    text = absorbing_flume_text(1600)
+    t_end_first = 4.0
+    first = re.sub(r"t_end = [0-9.]+", f"t_end = {t_end_first}", text).replace("max_steps = 1600", "max_steps = 0")
+    proc, out = run_case(first, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    # mid-wave: the same run stopped at 1.5 s, continued with a higher wave
+    mid = tmp_path / "mid"
+    mid.mkdir()
+    proc, _ = run_case(re.sub(r"t_end = [0-9.]+", "t_end = 1.5", first), mid, binary=mbsph, name=CASE)
+    assert_ok(proc)
+    again = re.sub(r"height = ([0-9.]+)", lambda m_: f"height = {1.5 * float(m_.group(1)):.6f}",
+                   re.sub(r"t_end = [0-9.]+", "t_end = 2.0", first)).replace("restart = .false.", "restart = .true.")
+    proc, _ = run_case(again, mid, binary=mbsph, name=CASE)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    msg = error_line(proc)
+    assert "&wavemaker: " in msg and "rests" in msg, msg
+    # after the wave's end (3 s): the next step of the series, a higher wave from 4.5 s
+    series = re.sub(r"t_end = [0-9.]+", "t_end = 5.0", again).replace(
+        "duration = 3.0", "duration = 3.0, t_start = 4.5")
+    proc, _ = run_case(series, tmp_path, binary=mbsph, name=CASE)
+    assert_ok(proc)
 
 
 # The wave-height tests: (kh, paddle, Madsen's second-order stroke, particles over the depth,

@@ -11,6 +11,8 @@ program test_waves
    use wave_spectrum, only: jonswap, jonswap_paddle_signal, signal_hm0, signal_peak_frequency, signal_periodogram, &
                             rng_t, rng_seed, rng_uniform
    use wave_signal, only: signal_t, signal_eval, signal_read
+   use wave_paddle, only: paddle_t, paddle_motion, paddle_target_eta, paddle_absorb_set, paddle_absorb_advance
+   use options, only: wave_regular
    use testing, only: check, check_close, test_summary
    implicit none
    real(rp), parameter :: g = 9.81_rp
@@ -25,6 +27,8 @@ program test_waves
    call test_synthesis('flap')
    call test_signal_eval()
    call test_signal_read()
+   call test_paddle_end()
+   call test_absorber()
    call test_summary('test_waves')
 
 contains
@@ -357,4 +361,76 @@ contains
       logical :: r
       r = .not. (a < b .or. a > b)
    end function same
+
+   !> A regular wave with a duration: the paddle starts and ends at rest, its
+   !> velocity is the derivative of its displacement (centred differences)
+   !> through both ramps, and it rests at X = 0 after the end.
+   subroutine test_paddle_end()
+      type(paddle_t) :: pad
+      real(rp) :: t, x, u, xa, ua, xb, ub, worst, e
+      integer :: i
+      pad%on = .true.
+      pad%wave = wave_regular
+      pad%t_start = 0.5_rp
+      pad%omega = 2.0_rp*pi
+      pad%amp1 = 0.02_rp
+      pad%eta1 = 0.01_rp
+      pad%t_ramp = 1.0_rp
+      pad%t_stop = 4.3_rp
+      worst = 0.0_rp
+      e = 1.0e-6_rp
+      do i = 1, 599
+         t = 0.5_rp + 4.3_rp*i/600.0_rp
+         call paddle_motion(pad, t - e, xa, ua)
+         call paddle_motion(pad, t + e, xb, ub)
+         call paddle_motion(pad, t, x, u)
+         worst = max(worst, abs((xb - xa)/(2.0_rp*e) - u))
+      end do
+      call check(worst < 1.0e-6_rp, 'paddle velocity = dX/dt through the ramps up and down')
+      call paddle_motion(pad, 0.5_rp + 4.3_rp - 1.0e-4_rp, x, u)
+      call check(abs(x) < 1.0e-8_rp .and. abs(u) < 1.0e-4_rp, 'paddle comes to rest at the end of its wave')
+      call paddle_motion(pad, 6.0_rp, x, u)
+      call check(same(x, 0.0_rp) .and. same(u, 0.0_rp), 'paddle rests at X = 0 after its wave')
+      call check(same(paddle_target_eta(pad, 6.0_rp), 0.0_rp), 'no target elevation after the wave')
+      ! the target elevation is in phase with the paddle velocity, of amplitude H/2
+      call paddle_motion(pad, 0.5_rp + 2.0_rp, x, u)
+      call check_close(paddle_target_eta(pad, 0.5_rp + 2.0_rp), 0.01_rp, 1.0e-12_rp, &
+                       'target elevation H/2 where the velocity peaks')
+      call check_close(u, 0.02_rp*2.0_rp*pi, 1.0e-12_rp, 'paddle velocity peaks at omega X')
+   end subroutine test_paddle_end
+
+   !> The absorber: a paddle that makes no wave (before its start) and meets
+   !> an elevation e held constant moves at -G e (the delayed value of a
+   !> constant is the constant); its displacement grows by u dt a step; the
+   !> mean level follows e over tau, and the drift term pulls back by xc/tau.
+   subroutine test_absorber()
+      type(paddle_t) :: pad
+      real(rp), allocatable :: hist(:, :)
+      real(rp) :: xc, mean, t, x, u
+      integer :: k
+      pad%on = .true.
+      pad%wave = wave_regular
+      pad%t_start = 100.0_rp
+      pad%absorb = .true.
+      pad%gain = 5.0_rp
+      pad%tau = 2.0_rp
+      pad%delay = 0.05_rp
+      xc = 0.0_rp
+      mean = 0.0_rp
+      t = 0.0_rp
+      call paddle_absorb_set(pad, t, 0.01_rp, xc, mean, hist)
+      call check_close(pad%uc, -0.05_rp, 1.0e-14_rp, 'absorber: u_c = -G eta')
+      call paddle_motion(pad, t + 0.001_rp, x, u)
+      call check_close(x, -0.05_rp*0.001_rp, 1.0e-12_rp, 'absorber: X = X_c + (t - t_c) u_c')
+      call check_close(u, -0.05_rp, 1.0e-14_rp, 'absorber: U = u_c')
+      do k = 1, 100
+         call paddle_absorb_advance(pad, 0.001_rp, 0.01_rp, xc, mean)
+         t = t + 0.001_rp
+         call paddle_absorb_set(pad, t, 0.01_rp, xc, mean, hist)
+      end do
+      call check_close(mean, 0.01_rp*(1.0_rp - (1.0_rp - 0.001_rp/2.0_rp)**100), 1.0e-12_rp, &
+                       'absorber: the mean level relaxes over tau')
+      call check(size(hist, 2) <= 52 .and. size(hist, 2) >= 50, 'absorber: history holds the last delay only')
+      call check(pad%uc > -0.05_rp .and. pad%uc < 0.0_rp, 'absorber: the mean level and drift ease the correction')
+   end subroutine test_absorber
 end program test_waves

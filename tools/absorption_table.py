@@ -1,0 +1,89 @@
+"""Reflection coefficient of the absorbing paddle: a regular wave made by a piston wall at
+the far end of a flume runs to the paddle, which rests; two gauges a quarter wavelength
+in front of it separate the wave coming in from the wave it returns (Goda and Suzuki).
+The layout is post/wave_cases.py's absorption_case; the test is tests/test_waves.py's
+test_absorbing_paddle_reflection.
+
+    .venv/bin/python tools/absorption_table.py               # the table of doc/waves.md
+
+Each row: the paddle, the wave's kh, the kh the absorber is tuned to (its gain is
+omega / (H/S) there: the wave's own for a regular wave, the peak's for a JONSWAP sea),
+Kr of linear theory for that gain, |1 - r| / (1 + r) with r the gain over the wave's own,
+and Kr measured with and without absorption.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import subprocess
+import sys
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from post.wave_cases import absorption_case, period_for_kh  # noqa: E402
+from post.waves import paddle_reflection_coefficient, read_gauges  # noqa: E402
+
+G = 9.81
+
+
+def transfer(kh: float, paddle: str) -> float:
+    """Biesel's H/S of a piston or of a flap hinged at the bed."""
+    if paddle == "piston":
+        return 2.0 * (math.cosh(2.0 * kh) - 1.0) / (math.sinh(2.0 * kh) + 2.0 * kh)
+    return 4.0 * math.sinh(kh) / kh * (kh * math.sinh(kh) - math.cosh(kh) + 1.0) / (math.sinh(2.0 * kh) + 2.0 * kh)
+
+
+def linear_kr(kh: float, gain_kh: float, paddle: str, depth: float) -> float:
+    """|1 - r| / (1 + r): the reflection of a paddle whose gain is r times the one that
+    absorbs a wave of kh (linear theory, the gauge at the face)."""
+    def ideal(khx: float) -> float:
+        omega = 2.0 * math.pi / period_for_kh(khx, depth)
+        return omega / transfer(khx, paddle)
+    r = ideal(gain_kh) / ideal(kh)
+    return abs(1.0 - r) / (1.0 + r)
+
+
+def measure(kh: float, gain_kh: float, paddle: str, absorb: bool, over_depth: float, depth: float,
+            binary: str) -> float:
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "OUT"
+        f = absorption_case(kh, depth=depth, dp=depth / over_depth, paddle=paddle, absorb=absorb,
+                            gain_kh=gain_kh, out_dir=str(out))
+        case = Path(tmp) / "case.nml"
+        case.write_text(f.text)
+        subprocess.run([binary, str(case)], check=True, capture_output=True, cwd=tmp)
+        _, t, c = read_gauges(out / "gauges.csv")
+        m = (t >= f.window[0]) & (t <= f.window[1])
+        r = paddle_reflection_coefficient(t[m], c["eta_1"][m], c["eta_2"][m], f.gauges[1] - f.gauges[0], depth,
+                                          f.period)
+        return r.Kr
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--over-depth", type=float, default=15.0, help="particles over the depth")
+    ap.add_argument("--depth", type=float, default=0.25)
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--binary", default=str(ROOT / "build" / "mbsph"))
+    a = ap.parse_args()
+    rows = [("piston", 1.2, 1.2), ("piston", 0.7, 0.7), ("piston", 1.7, 1.7), ("piston", 0.7, 1.2),
+            ("piston", 1.7, 1.2), ("flap", 1.2, 1.2)]
+    jobs = []
+    with ThreadPoolExecutor(a.workers) as ex:
+        for paddle, kh, gkh in rows:
+            jobs.append((ex.submit(measure, kh, gkh, paddle, True, a.over_depth, a.depth, a.binary),
+                         ex.submit(measure, kh, gkh, paddle, False, a.over_depth, a.depth, a.binary)))
+        print(f"depth {a.depth} m, {a.over_depth:g} particles over the depth, steepness 0.02")
+        print("| paddle | kh of the wave | absorber tuned to kh | Kr, linear theory | Kr measured | Kr, paddle not absorbing |")
+        print("|---|---|---|---|---|---|")
+        for (paddle, kh, gkh), (j1, j0) in zip(rows, jobs):
+            print(f"| {paddle} | {kh} | {gkh} | {linear_kr(kh, gkh, paddle, a.depth):.3f} | {j1.result():.3f} | "
+                  f"{j0.result():.3f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
