@@ -32,7 +32,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test wave-heights unit unit-debug run dambreak breakwater breakwater_core porous_waves lint bench bench-mpi bench-effects clean figures paper stability study porous
+.PHONY: all debug deps test wave-heights unit unit-debug run dambreak breakwater breakwater_core porous_waves lint bench bench-mpi bench-effects clean figures paper stability study porous damage
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -142,6 +142,15 @@ breakwater: deps build/mbsph
 	done
 	$(PYTHON) -m post.armour $(foreach c,$(BW_CASES),OUT/breakwater_$(c)) --gauge 3 --t-start $(BW_T0) \
 	  --table $(BW_DOC)/breakwater_table.md --out $(BW_DOC)/img
+
+# damage under test series like a laboratory's (doc/damage.md): SERIES names a series file
+# (study/series/*.toml): the settling run, then steps of irregular waves of rising Hs,
+# each a restart of the last; per step the incident Hm0 and H2% at the toe, Ns and the
+# units displaced, into <out>/series.csv and series.png. The default is the short trial
+# (three steps of a few waves, under 10 minutes on 2 cores); a finished step is kept.
+SERIES ?= study/series/trial.toml
+damage: deps build/mbsph
+	$(PYTHON) -m post.series $(SERIES)
 
 lint: deps
 	bash tools/lint.sh

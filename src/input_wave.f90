@@ -151,6 +151,9 @@ contains
       end select
       if (c%second_order .and. c%paddle_id /= paddle_piston) call input_error(file, g, 'second_order', &
                                                                       'is implemented for the piston paddle only')
+      ! the absorber's target is the first-order wave: it would take the bound second harmonic for a reflection
+      if (c%second_order .and. c%absorb) call input_error(file, g, 'absorb', &
+                                                          'is first-order: not with second_order = .true.')
       call check_real(file, g, 'ramp_periods', c%ramp_periods, 0.0_rp, 100.0_rp)
       call check_real(file, g, 'ramp_time', c%ramp_time, 0.0_rp, 1.0e4_rp)
       call check_real(file, g, 't_start', c%t_start, 0.0_rp, 1.0e6_rp)

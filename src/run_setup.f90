@@ -22,7 +22,7 @@ module run_setup
    use decomp, only: decomp_init, decomp_owner, decomp_count, decomp_balance, decomp_set_edges, decomp_lo, &
                      decomp_hi
    use fluid_forces, only: forces_init
-   use bc_motion, only: walls_init, motion_apply, motion_offset
+   use bc_motion, only: walls_t, walls_init, motion_apply, motion_offset
    use io_hdf5, only: h5_start
    use io_files, only: outdir_prepare, dir_writable, text_hash, file_text, energy_open
    use io_snapshot, only: snapshot_index_rebuild
@@ -34,7 +34,7 @@ module run_setup
    use wave_paddle, only: paddle_t
    use scene_flume, only: scene_paddle, armour_csv_header
    use probe_gauges, only: gauges_count, gauges_init
-   use options, only: gauge_elevation
+   use options, only: gauge_elevation, wave_irregular
    use io_armour, only: armour_csv_write
    use solver, only: run_t
    implicit none
@@ -159,17 +159,26 @@ contains
    !> wavemaker puts it: while it rests, before its start or after the end of
    !> a wave with a duration. Otherwise the paddle would jump.
    subroutine check_walls_at_restart(r, c)
-      type(run_t), intent(inout) :: r
+      type(run_t), intent(in) :: r
       type(case_cfg), intent(in) :: c
+      type(walls_t) :: w
       real(rp) :: d
-      r%walls%paddle%xc = r%st%pad_xc
-      r%walls%paddle%tc = r%st%t
-      r%walls%paddle%uc = 0.0_rp
-      d = motion_offset(r%walls, r%p, r%st%t)
-      if (d > 1.0e-3_rp*r%prm%dp) call input_error(c%file, 'wavemaker', '', 'the moving walls of '//r%out// &
+      character(len=:), allocatable :: hint
+      w = r%walls
+      w%paddle%xc = r%st%pad_xc
+      w%paddle%tc = r%st%t
+      w%paddle%uc = 0.0_rp
+      d = motion_offset(w, r%p, r%st%t)
+      if (d <= 1.0e-3_rp*r%prm%dp) return
+      hint = ''
+      ! without a duration the irregular signal is made for the run's length: a new t_end makes another
+      if (c%wavemaker%wave_id == wave_irregular .and. c%wavemaker%duration <= 0.0_rp) hint = '; an irregular '// &
+         "wave without a duration is made for the run's t_end, so that a longer run makes another wave: set "// &
+         'duration (at least the longest t_end - t_start) to continue a run'
+      call input_error(c%file, 'wavemaker', '', 'the moving walls of '//r%out// &
          '/checkpoint.h5 stand up to '//real_str(d)//' m from where the case puts them at t = '// &
          real_str(r%st%t)//' s: a restart may change the paddle (or a moving wall) only while it rests, '// &
-         'before its t_start or after the end of a wave with a duration')
+         'before its t_start or after the end of a wave with a duration'//hint)
    end subroutine check_walls_at_restart
 
    !> Every rank read the same case file; otherwise all stop with one message

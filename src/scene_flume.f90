@@ -567,6 +567,8 @@ contains
          if (t_ramp > 0.0_rp) lines = lines//', ramp '//real_str(t_ramp)//' s'
          if (wm%t_start > 0.0_rp) lines = lines//', starting at t = '//real_str(wm%t_start)//' s'
          if (pad%t_stop > 0.0_rp) then
+            if (t_ramp <= 0.0_rp) call input_error(file, 'wavemaker', 'duration', 'a wave with an end needs a '// &
+               'ramp to end at rest: set ramp_periods or ramp_time above 0')
             if (pad%t_stop < 2.0_rp*t_ramp) call input_error(file, 'wavemaker', 'duration', 'the wave of '// &
                real_str(pad%t_stop)//' s is shorter than its two ramps ('//real_str(2.0_rp*t_ramp)// &
                ' s): lengthen duration or shorten the ramp')
@@ -603,6 +605,7 @@ contains
       lines = lines//new_line('a')//'  absorbing paddle: gain '//real_str(pad%gain)//' 1/s (sqrt(g/d) = '// &
               real_str(sqrt(g/wm%depth))//'), drift and mean-level time '//real_str(pad%tau)//' s'
    end subroutine absorber
+
    !> The parameters of the armour layer for the '#' line of OUT/armour.csv.
    function armour_csv_header(a, layer, rho_water) result(line)
       type(armour_cfg), intent(in) :: a

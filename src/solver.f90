@@ -195,7 +195,8 @@ contains
 
    !> Before a step of an absorbing paddle: the elevation in front of its
    !> face (summed over the ranks, as a gauge) and the correction of its
-   !> motion over the step. Where the point is dry, no correction.
+   !> motion over the step. Where the point is dry, the sample is the one that
+   !> asks for no correction.
    subroutine absorb_measure(r)
       type(run_t), intent(inout) :: r
       real(rp), allocatable :: acc(:)
@@ -211,7 +212,8 @@ contains
          call comm_sum(acc)
          call gauges_values(r%pg, r%prm, acc, val)
          r%eta_pad = val(1)
-         if (ieee_is_nan(r%eta_pad)) r%eta_pad = r%st%pad_eta_mean + paddle_target_eta(pad, r%st%t)
+         ! dry: the sample the paddle will read D/c later is the target then, no correction
+         if (ieee_is_nan(r%eta_pad)) r%eta_pad = r%st%pad_eta_mean + paddle_target_eta(pad, r%st%t - pad%delay)
          call paddle_absorb_set(pad, r%st%t, r%eta_pad, r%st%pad_xc, r%st%pad_eta_mean, r%st%pad_hist)
       end associate
    end subroutine absorb_measure

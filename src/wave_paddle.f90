@@ -168,7 +168,6 @@ contains
          if (hist(1, first + 1) > t - delay) exit
          first = first + 1
       end do
-      if (n == 0) first = 1
       hist = reshape([hist(:, first:n), t, e], [2, n - first + 2])
    end subroutine history_add
 

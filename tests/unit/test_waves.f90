@@ -431,6 +431,28 @@ contains
       call check_close(mean, 0.01_rp*(1.0_rp - (1.0_rp - 0.001_rp/2.0_rp)**100), 1.0e-12_rp, &
                        'absorber: the mean level relaxes over tau')
       call check(size(hist, 2) <= 52 .and. size(hist, 2) >= 50, 'absorber: history holds the last delay only')
-      call check(pad%uc > -0.05_rp .and. pad%uc < 0.0_rp, 'absorber: the mean level and drift ease the correction')
+      ! the last step: e = 0.01 - mean of the step D/c before (linear between samples), and the drift term
+      call check_close(pad%uc, -5.0_rp*(0.01_rp - 0.01_rp*(1.0_rp - (1.0_rp - 0.0005_rp)**50)) - xc/2.0_rp, &
+                       1.0e-12_rp, 'absorber: u_c = -G e(t - D/c) - X_c / tau')
+      ! a measured level rising as 0.2 t: the paddle reads it D/c late
+      deallocate (hist)
+      pad%tau = 1.0e12_rp
+      xc = 0.0_rp
+      mean = 0.0_rp
+      do k = 0, 200
+         t = 0.0007_rp*k
+         call paddle_absorb_set(pad, t, 0.2_rp*t, xc, mean, hist)
+      end do
+      call check_close(pad%uc, -5.0_rp*0.2_rp*(t - 0.05_rp), 1.0e-10_rp, 'absorber: the elevation is read D/c late')
+      ! an active paddle in still water: the target is read 2 D/c late, and pushes
+      deallocate (hist)
+      pad%t_start = 0.0_rp
+      pad%omega = 2.0_rp*pi
+      pad%eta1 = 0.01_rp
+      pad%t_ramp = 0.0_rp
+      t = 1.3_rp
+      call paddle_absorb_set(pad, t, 0.0_rp, 0.0_rp, 0.0_rp, hist)
+      call check_close(pad%uc, 5.0_rp*0.01_rp*cos(2.0_rp*pi*(t - 0.1_rp)), 1.0e-12_rp, &
+                       'absorber: the target elevation is read 2 D/c late')
    end subroutine test_absorber
 end program test_waves

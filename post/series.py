@@ -1,0 +1,428 @@
+"""Test series like a laboratory's: on one armour layer, steps of irregular (JONSWAP)
+waves of rising Hs, each a restart of the last, so that the layer keeps its damage.
+
+    python -m post.series study/series_trial.toml [--dry-run] [--report-only]
+
+A series file (TOML)::
+
+    [series]
+    case = "input/breakwater/irregular_porous.nml"  # the base case: flume, core, armour
+    out = "OUT/series/trial"          # the run's folder (default OUT/series/<file stem>)
+    ranks = 1                         # MPI ranks (mpirun -np), 1: no mpirun
+    settle = 1.0                      # still water before the first step [s]
+    tp = 1.4                          # peak period of every step [s]
+    gamma = 3.3
+    waves = 100                       # waves per step (zero up-crossings expected, Tm02)
+    rest = 3.0                        # still water after each step's wave [s]
+    ramp_periods = 2.0                # the wave's ramps up and down, in Tp
+    absorb = true                     # the paddle absorbs the waves coming back
+    toe_gauges = [2.2, 2.4, 2.65]     # three elevation gauges in front of the toe [m]
+    rocking_deg = 5.0                 # a unit rocks when it turns more than this and returns
+
+    [patch]                           # optional: namelist values for every step
+    armour = { seed = 8 }             # e.g. another irregular placement
+
+    [[step]]                          # one table per step, in order
+    hs = 0.06                         # target Hm0 at the paddle [m]
+    seed = 1                          # default: the step's number
+
+The settling run and every step run in one output folder: step k is a restart of step
+k - 1 with a new ``&wavemaker`` (``t_start`` the end of the last step, ``duration`` the
+step's waves, ramped down at the end, then ``rest`` seconds of still water). The paddle
+rests between steps, so the solver accepts the new wave (doc/input.md). A step whose
+checkpoint is already there is not run again: an interrupted series resumes.
+
+After every step, ``<out>/series.csv`` gets one row: the step, its time window, the
+incident Hm0 and H2% in front of the toe over the step's whole wave as it passes there (three gauges, Mansard and Funke's separation
+with the mean still-water depth at the gauges; H2% by zero up-crossing of the incident
+series rebuilt from the separated spectrum), the reflection coefficient, the stability
+number Ns = Hm0 / (Delta dn), the units displaced by more than ``threshold`` dn since the
+start of the series (cumulative: Nod of the 2D strip), the units that rocked in the step
+(turned by more than ``rocking_deg`` and came back within it) and the largest
+displacement. ``<out>/series.png`` shows Nod against Ns.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import os
+import subprocess
+import sys
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import f90nml
+import numpy as np
+
+from . import armour, waves
+from .io import read_csv
+from .plotting import plt, save_figure
+
+ROOT = Path(__file__).resolve().parent.parent
+G = 9.81
+
+
+class SeriesError(ValueError):
+    pass
+
+
+@dataclass
+class Step:
+    hs: float
+    seed: int
+
+
+@dataclass
+class Series:
+    name: str
+    case: Path
+    out: Path
+    ranks: int = 1
+    settle: float = 1.0
+    tp: float = 1.4
+    gamma: float = 3.3
+    waves: float = 100.0
+    rest: float = 3.0
+    ramp_periods: float = 2.0
+    absorb: bool = True
+    toe_gauges: list[float] = field(default_factory=list)
+    rocking_deg: float = 5.0
+    steps: list[Step] = field(default_factory=list)
+    patch: dict[str, dict[str, Any]] = field(default_factory=dict)
+
+
+_KEYS = {"case", "out", "ranks", "settle", "tp", "gamma", "waves", "rest", "ramp_periods", "absorb", "toe_gauges",
+         "rocking_deg"}
+
+
+def load_series(path: str | Path) -> Series:
+    """Read and check a series file; errors name the file, the table and the key."""
+    path = Path(path)
+    with open(path, "rb") as fh:
+        data = tomllib.load(fh)
+    s = data.get("series")
+    if not isinstance(s, dict):
+        raise SeriesError(f"{path}: a [series] table is required")
+    unknown = set(s) - _KEYS
+    if unknown:
+        raise SeriesError(f"{path}: [series]: unknown key(s) {sorted(unknown)}; allowed: {sorted(_KEYS)}")
+    if "case" not in s:
+        raise SeriesError(f"{path}: [series]: case (the base case file) is required")
+    case = Path(s["case"])
+    if not case.is_absolute():
+        case = ROOT / case
+    if not case.is_file():
+        raise SeriesError(f"{path}: [series]: case: no file {case}")
+    out = Path(s.get("out", f"OUT/series/{path.stem}"))
+    ser = Series(name=path.stem, case=case, out=out if out.is_absolute() else ROOT / out)
+    for key, lo, hi in (("ranks", 1, 4096), ("settle", 0.0, 1e4), ("tp", 1e-3, 1e3), ("gamma", 1.0, 20.0),
+                        ("waves", 1.0, 1e6), ("rest", 0.0, 1e4), ("ramp_periods", 0.0, 100.0),
+                        ("rocking_deg", 0.1, 90.0)):
+        if key in s:
+            v = s[key]
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not lo <= v <= hi:
+                raise SeriesError(f"{path}: [series]: {key} = {v!r} is not in [{lo}, {hi}]")
+            setattr(ser, key, type(getattr(ser, key))(v))
+    if "absorb" in s:
+        if not isinstance(s["absorb"], bool):
+            raise SeriesError(f"{path}: [series]: absorb must be true or false")
+        ser.absorb = s["absorb"]
+    ser.toe_gauges = [float(x) for x in s.get("toe_gauges", [])]
+    if len(ser.toe_gauges) != 3 or sorted(ser.toe_gauges) != ser.toe_gauges:
+        raise SeriesError(f"{path}: [series]: toe_gauges must be three increasing positions [m] in front of the toe")
+    patch = data.get("patch", {})
+    if not isinstance(patch, dict) or not all(isinstance(v, dict) for v in patch.values()):
+        raise SeriesError(f"{path}: [patch]: one table per namelist group, e.g. armour = {{ seed = 8 }}")
+    for group in ("run", "wavemaker"):
+        if group in patch:
+            raise SeriesError(f"{path}: [patch]: &{group} is the series' own; set its keys in [series]")
+    ser.patch = patch
+    steps = data.get("step", [])
+    if not isinstance(steps, list) or not steps:
+        raise SeriesError(f"{path}: at least one [[step]] table (hs, seed) is required")
+    for i, st in enumerate(steps, start=1):
+        hs = st.get("hs")
+        if not isinstance(hs, (int, float)) or not hs > 0.0:
+            raise SeriesError(f"{path}: [[step]] {i}: hs = {hs!r} must be a positive height [m]")
+        seed = st.get("seed", i)
+        if not isinstance(seed, int) or seed < 0:
+            raise SeriesError(f"{path}: [[step]] {i}: seed = {seed!r} must be an integer >= 0")
+        ser.steps.append(Step(float(hs), seed))
+    return ser
+
+
+def tm02_over_tp(gamma: float, f_lo: float = 0.5, f_hi: float = 3.0) -> float:
+    """Tm02 / Tp of the JONSWAP spectrum (Goda's form) in the solver's band of components."""
+    f = np.linspace(f_lo, f_hi, 4001)       # in units of fp
+    sigma = np.where(f <= 1.0, 0.07, 0.09)
+    s = f ** -5 * np.exp(-1.25 * f ** -4) * gamma ** np.exp(-((f - 1.0) ** 2) / (2.0 * sigma ** 2))
+    m0 = np.trapezoid(s, f)
+    m2 = np.trapezoid(s * f * f, f)
+    return math.sqrt(m0 / m2)
+
+
+@dataclass
+class StepTimes:
+    start: float      # the wave starts (paddle leaves rest) [s]
+    wave_end: float   # the paddle is at rest again [s]
+    end: float        # the step's run ends [s]
+
+
+def schedule(ser: Series) -> list[StepTimes]:
+    """The time window of every step: the wave (waves Tm02 long, ramps included), then rest."""
+    duration = ser.waves * tm02_over_tp(ser.gamma) * ser.tp
+    duration = max(duration, 2.0 * ser.ramp_periods * ser.tp + ser.tp)
+    out, t = [], ser.settle
+    for _ in ser.steps:
+        out.append(StepTimes(t, t + duration, t + duration + ser.rest))
+        t = t + duration + ser.rest
+    return out
+
+
+def step_text(ser: Series, k: int) -> str:
+    """The case file of step k (0: the settling run; 1..: the steps): the base case
+    patched (&run, &wavemaker) and the toe gauges it lacks added."""
+    import tempfile
+    times = schedule(ser)
+    run = {"out_dir": str(ser.out / "run"), "progress_interval": 60.0}
+    if k == 0:
+        run.update(t_end=ser.settle, overwrite=True, restart=False)
+        st, tt = ser.steps[0], times[0]
+    else:
+        st, tt = ser.steps[k - 1], times[k - 1]
+        run.update(t_end=tt.end, overwrite=False, restart=True)
+    wm = {"wave": "irregular", "hs": st.hs, "tp": ser.tp, "gamma": ser.gamma, "seed": st.seed,
+          "t_start": tt.start, "duration": tt.wave_end - tt.start, "ramp_periods": ser.ramp_periods,
+          "absorb": ser.absorb}
+    base = f90nml.read(str(ser.case))
+    if "wavemaker" not in base:
+        raise SeriesError(f"{ser.case}: the base case has no &wavemaker group")
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "case.nml"
+        f90nml.patch(str(ser.case), {**ser.patch, "run": run, "wavemaker": wm}, str(out))
+        text = out.read_text()
+    gauges = base.get("gauge", [])
+    gauges = [gauges] if isinstance(gauges, f90nml.Namelist) else list(gauges)
+    have = [float(g["x"]) for g in gauges if str(g.get("kind", "elevation")).lower() == "elevation"]
+    extra = "".join(f"&gauge kind = 'elevation', x = {x} /\n" for x in ser.toe_gauges
+                    if not any(abs(x - h) < 1e-9 for h in have))
+    head = (f"! series '{ser.name}', step {k} of {len(ser.steps)} (0: settling), base "
+            f"{ser.case.relative_to(ROOT) if ser.case.is_relative_to(ROOT) else ser.case}\n")
+    return head + text + ("" if text.endswith("\n") else "\n") + extra
+
+
+# ------------------------------------------------------------------ analysis
+
+
+def foreshore_depth(nml, x: float) -> float:
+    """Still-water depth at x in a &breakwater flume (flat, then the foreshore up to the toe depth)."""
+    bw = nml["breakwater"]
+    depth, toe = float(bw["depth"]), float(bw["toe_depth"])
+    x_fore = float(bw["x_start"]) + float(bw.get("flat_length", 0.0))
+    slope = math.tan(math.radians(float(bw["foreshore_angle"])))
+    return float(min(depth, max(toe, depth - (x - x_fore) * slope)))
+
+
+def travel_time(nml, x0: float, x1: float, period: float, n: int = 200) -> float:
+    """Time a wave group of the given period takes from x0 to x1 over the flume's
+    still-water depths (linear theory, group speed at each depth)."""
+    xs = np.linspace(x0, x1, n + 1)
+    omega = 2.0 * math.pi / period
+    cg = []
+    for x in 0.5 * (xs[1:] + xs[:-1]):
+        d = foreshore_depth(nml, float(x))
+        k = float(waves.wavenumber(omega, d))
+        cg.append(0.5 * omega / k * (1.0 + 2.0 * k * d / math.sinh(2.0 * k * d)))
+    return float(np.sum(np.diff(xs) / np.asarray(cg)))
+
+
+def incident_series(t: np.ndarray, etas: Sequence[np.ndarray], xs: Sequence[float], depth: float,
+                    band: tuple[float, float] = (0.5, 3.0)) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """The incident and reflected elevations at the first gauge from three gauges (least
+    squares per Fourier bin of the whole record, boxcar; bins of the band ``band`` times
+    the peak frequency only, elsewhere 0), and their Hm0."""
+    tu, y, dt = waves._uniform(t, np.vstack([np.asarray(e, float) for e in etas]))
+    y = y - y.mean(axis=1, keepdims=True)
+    n = y.shape[1]
+    Z = np.fft.rfft(y, axis=1)
+    f = np.fft.rfftfreq(n, dt)
+    power = np.mean(np.abs(Z) ** 2, axis=0)
+    fp = f[1 + int(np.argmax(power[1:]))]
+    x = np.asarray(xs, float) - float(xs[0])
+    Ai = np.zeros(len(f), complex)
+    Ar = np.zeros(len(f), complex)
+    for j in np.nonzero((f >= band[0] * fp) & (f <= band[1] * fp))[0]:
+        k = float(waves.wavenumber(2.0 * np.pi * f[j], depth))
+        M = np.column_stack([np.exp(-1j * k * x), np.exp(1j * k * x)])
+        if np.linalg.cond(M) > 10.0:
+            continue
+        sol, *_ = np.linalg.lstsq(M, Z[:, j], rcond=None)
+        Ai[j], Ar[j] = sol
+    eta_i = np.fft.irfft(Ai, n)
+    eta_r = np.fft.irfft(Ar, n)
+    return tu, eta_i, 4.0 * float(np.std(eta_i)), 4.0 * float(np.std(eta_r))
+
+
+def h2_percent(t: np.ndarray, eta: np.ndarray) -> float:
+    """The height exceeded by 2 % of the zero up-crossing waves (interpolated rank)."""
+    zc = waves.zero_crossing(t, eta)
+    h = np.sort(np.asarray(zc.heights, float))[::-1]
+    if len(h) == 0:
+        return float("nan")
+    return float(np.interp(0.02 * len(h), np.arange(1, len(h) + 1) - 0.5, h))
+
+
+@dataclass
+class StepResult:
+    step: int
+    hs_target: float
+    seed: int
+    t_start: float
+    t_end: float
+    Hm0_i: float
+    H2_i: float
+    Kr: float
+    Ns: float
+    displaced: int
+    rocking: int
+    max_disp_dn: float
+
+
+def analyse_step(ser: Series, k: int) -> StepResult:
+    """Waves and damage of step k (1..) from the series' output folder."""
+    out = ser.out / "run"
+    nml = f90nml.read(str(out / "case.nml"))
+    tt = schedule(ser)[k - 1]
+    gauges, time, cols = waves.read_gauges(out)
+    etas = []
+    for x in ser.toe_gauges:
+        g = next(g for g in gauges if g.kind == "elevation" and abs(g.x - x) < 1e-6)
+        etas.append(cols[g.column])
+    # the step's whole wave as it passes the toe gauges: the paddle's record shifted by
+    # the travel time at the group speed of Tp over the flume's depths
+    travel = travel_time(nml, float(nml["wavemaker"]["x0"]) if "x0" in nml["wavemaker"] else
+                         float(nml["breakwater"]["x_start"]), ser.toe_gauges[0], ser.tp)
+    m = (time >= tt.start + travel) & (time <= tt.wave_end + travel)
+    depth = float(np.mean([foreshore_depth(nml, x) for x in ser.toe_gauges]))
+    ok = m & np.all(np.isfinite(np.vstack(etas)), axis=0)
+    if ok.sum() < 64:
+        raise SeriesError(f"{out}/gauges.csv: too few samples of step {k} at the toe gauges")
+    tu, eta_i, hm0_i, hm0_r = incident_series(time[ok], [e[ok] for e in etas], ser.toe_gauges, depth)
+    lay = armour.read_armour(out)
+    bodies = read_csv(out / "bodies.csv")
+    rho_w = float(lay.meta.get("rho_water", 1000.0))
+    ns = armour.stability_number(hm0_i, lay.dn, float(lay.meta["density"]), rho_w)
+    displaced = rocking = 0
+    worst = 0.0
+    for b in lay.body:
+        mo = armour.unit_motion(bodies, int(b))
+        upto = mo.time <= tt.end + 1e-9
+        if not np.any(upto):
+            continue
+        d = mo.displacement[upto]
+        displaced += int(d[-1] > lay.threshold * lay.dn)
+        worst = max(worst, float(np.max(d)) / lay.dn)
+        inside = upto & (mo.time >= tt.start - 1e-9)
+        if np.any(inside):
+            rot = np.degrees(mo.rotation[inside] - mo.rotation[inside][0])
+            if np.max(np.abs(rot)) > ser.rocking_deg and abs(rot[-1]) <= ser.rocking_deg:
+                rocking += 1
+    return StepResult(k, ser.steps[k - 1].hs, ser.steps[k - 1].seed, tt.start, tt.end, hm0_i, h2_percent(tu, eta_i),
+                      hm0_r / hm0_i if hm0_i > 0 else float("nan"), ns, displaced, rocking, worst)
+
+
+_COLS = ["step", "hs_target", "seed", "t_start", "t_end", "Hm0_i", "H2_i", "Kr", "Ns", "displaced", "rocking",
+         "max_disp_dn"]
+
+
+def write_csv(ser: Series, rows: list[StepResult]) -> Path:
+    path = ser.out / "series.csv"
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(_COLS)
+        for r in rows:
+            w.writerow([getattr(r, c) if not isinstance(getattr(r, c), float) else f"{getattr(r, c):.6g}"
+                        for c in _COLS])
+    return path
+
+
+def plot(ser: Series, rows: list[StepResult]) -> Path:
+    fig, ax = plt.subplots(figsize=(6.0, 4.2))
+    ns = [r.Ns for r in rows]
+    nod = [r.displaced for r in rows]
+    ax.plot(ns, nod, "o-", label=f"{ser.name} (cumulative)")
+    lab = armour.LAB_RANGES
+    ax.axvspan(*lab["start_of_damage"]["Ns"], color="tab:green", alpha=0.2, label="start of damage (Van Gent 2003)")
+    ax.axvspan(*lab["failure"]["Ns"], color="tab:red", alpha=0.2, label="failure (Van Gent 2003)")
+    ax.plot([5.0], [1.0], "k*", ms=10, label="Van Buchem (2009): one unit")
+    ax.set_xlabel("Ns = Hm0 / (Delta dn), incident at the toe")
+    ax.set_ylabel("Nod (units displaced > threshold dn)")
+    ax.legend(fontsize=8)
+    return save_figure(fig, ser.out / "series.png")
+
+
+# ------------------------------------------------------------------ running
+
+
+def run_series(ser: Series, binary: Path, dry_run: bool = False) -> list[StepResult]:
+    ser.out.mkdir(parents=True, exist_ok=True)
+    rows: list[StepResult] = []
+    for k in range(len(ser.steps) + 1):
+        case = ser.out / f"step_{k:02d}.nml"
+        text = step_text(ser, k)
+        done = ser.out / f"step_{k:02d}.done"
+        if done.is_file() and case.is_file() and case.read_text() == text:
+            print(f"step {k}: done before, kept", flush=True)
+        else:
+            case.write_text(text)
+            if dry_run:
+                print(f"step {k}: {case} written (dry run)")
+                continue
+            cmd = [str(binary), str(case)]
+            if ser.ranks > 1:
+                # as the Makefile's MPIRUN: Open MPI refuses root without the flag
+                root = ["--allow-run-as-root"] if os.geteuid() == 0 else []
+                cmd = ["mpirun", *root, "--oversubscribe", "-np", str(ser.ranks)] + cmd
+            print(f"step {k}: {' '.join(cmd)}", flush=True)
+            with open(ser.out / f"step_{k:02d}.log", "w") as log:
+                proc = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT)
+            if proc.returncode != 0:
+                raise SeriesError(f"step {k} stopped with exit status {proc.returncode}: see "
+                                  f"{ser.out / f'step_{k:02d}.log'}")
+            done.write_text("")
+        if k > 0:
+            r = analyse_step(ser, k)
+            rows.append(r)
+            print(f"step {k}: Hm0_i {r.Hm0_i:.4f} m, H2% {r.H2_i:.4f} m, Kr {r.Kr:.2f}, Ns {r.Ns:.2f}, "
+                  f"displaced {r.displaced}, rocking {r.rocking}, largest {r.max_disp_dn:.2f} dn", flush=True)
+            write_csv(ser, rows)
+    if rows:
+        plot(ser, rows)
+    return rows
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("series", type=Path)
+    ap.add_argument("--binary", type=Path, default=ROOT / "build" / "mbsph")
+    ap.add_argument("--dry-run", action="store_true", help="write the step case files only")
+    a = ap.parse_args(argv)
+    try:
+        ser = load_series(a.series)
+        run_series(ser, a.binary, a.dry_run)
+    except SeriesError as e:
+        print(f"post.series: error: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
+
+
+__all__: list[Any] = ["Series", "Step", "load_series", "schedule", "step_text", "incident_series", "h2_percent",
+                      "analyse_step", "run_series", "main"]
