@@ -18,6 +18,7 @@ A series file (TOML)::
     absorb = true                     # the paddle absorbs the waves coming back
     toe_gauges = [2.2, 2.4, 2.65]     # three elevation gauges in front of the toe [m]
     rocking_deg = 5.0                 # a unit rocks when it turns more than this and returns
+    checkpoint_every = 0              # steps of the solver between checkpoints (0: at each end)
 
     [patch]                           # optional: namelist values for every step
     armour = { seed = 8 }             # e.g. another irregular placement
@@ -30,7 +31,8 @@ The settling run and every step run in one output folder: step k is a restart of
 k - 1 with a new ``&wavemaker`` (``t_start`` the end of the last step, ``duration`` the
 step's waves, ramped down at the end, then ``rest`` seconds of still water). The paddle
 rests between steps, so the solver accepts the new wave (doc/input.md). A step whose
-checkpoint is already there is not run again: an interrupted series resumes.
+run ended (``step_NN.done``) is not run again, and a step that was stopped (a batch
+job's time limit) continues from its last checkpoint: an interrupted series resumes.
 
 After every step, ``<out>/series.csv`` gets one row: the step, its time window, the
 incident Hm0 and H2% in front of the toe over the step's whole wave as it passes there (three gauges, Mansard and Funke's separation
@@ -91,12 +93,13 @@ class Series:
     absorb: bool = True
     toe_gauges: list[float] = field(default_factory=list)
     rocking_deg: float = 5.0
+    checkpoint_every: int = 0
     steps: list[Step] = field(default_factory=list)
     patch: dict[str, dict[str, Any]] = field(default_factory=dict)
 
 
 _KEYS = {"case", "out", "ranks", "settle", "tp", "gamma", "waves", "rest", "ramp_periods", "absorb", "toe_gauges",
-         "rocking_deg"}
+         "rocking_deg", "checkpoint_every"}
 
 
 def load_series(path: str | Path) -> Series:
@@ -121,7 +124,7 @@ def load_series(path: str | Path) -> Series:
     ser = Series(name=path.stem, case=case, out=out if out.is_absolute() else ROOT / out)
     for key, lo, hi in (("ranks", 1, 4096), ("settle", 0.0, 1e4), ("tp", 1e-3, 1e3), ("gamma", 1.0, 20.0),
                         ("waves", 1.0, 1e6), ("rest", 0.0, 1e4), ("ramp_periods", 0.0, 100.0),
-                        ("rocking_deg", 0.1, 90.0)):
+                        ("rocking_deg", 0.1, 90.0), ("checkpoint_every", 0, 10 ** 9)):
         if key in s:
             v = s[key]
             if not isinstance(v, (int, float)) or isinstance(v, bool) or not lo <= v <= hi:
@@ -188,7 +191,7 @@ def step_text(ser: Series, k: int) -> str:
     patched (&run, &wavemaker) and the toe gauges it lacks added."""
     import tempfile
     times = schedule(ser)
-    run = {"out_dir": str(ser.out / "run"), "progress_interval": 60.0}
+    run = {"out_dir": str(ser.out / "run"), "progress_interval": 60.0, "checkpoint_every": ser.checkpoint_every}
     if k == 0:
         run.update(t_end=ser.settle, overwrite=True, restart=False)
         st, tt = ser.steps[0], times[0]
@@ -368,7 +371,20 @@ def plot(ser: Series, rows: list[StepResult]) -> Path:
 # ------------------------------------------------------------------ running
 
 
-def run_series(ser: Series, binary: Path, dry_run: bool = False) -> list[StepResult]:
+def _launch(ser: Series, binary: Path, case: Path, launcher: str) -> list[str]:
+    """The command of one step: the binary alone (one rank), under mpirun (as the
+    Makefile's MPIRUN: Open MPI refuses root without the flag), or under another
+    launcher given whole (srun in a SLURM job takes the job's tasks)."""
+    cmd = [str(binary), str(case)]
+    if launcher != "mpirun":
+        return launcher.split() + cmd
+    if ser.ranks <= 1:
+        return cmd
+    root = ["--allow-run-as-root"] if os.geteuid() == 0 else []
+    return ["mpirun", *root, "--oversubscribe", "-np", str(ser.ranks)] + cmd
+
+
+def run_series(ser: Series, binary: Path, dry_run: bool = False, launcher: str = "mpirun") -> list[StepResult]:
     ser.out.mkdir(parents=True, exist_ok=True)
     rows: list[StepResult] = []
     for k in range(len(ser.steps) + 1):
@@ -382,11 +398,7 @@ def run_series(ser: Series, binary: Path, dry_run: bool = False) -> list[StepRes
             if dry_run:
                 print(f"step {k}: {case} written (dry run)")
                 continue
-            cmd = [str(binary), str(case)]
-            if ser.ranks > 1:
-                # as the Makefile's MPIRUN: Open MPI refuses root without the flag
-                root = ["--allow-run-as-root"] if os.geteuid() == 0 else []
-                cmd = ["mpirun", *root, "--oversubscribe", "-np", str(ser.ranks)] + cmd
+            cmd = _launch(ser, binary, case, launcher)
             print(f"step {k}: {' '.join(cmd)}", flush=True)
             with open(ser.out / f"step_{k:02d}.log", "w") as log:
                 proc = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT)
@@ -410,10 +422,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("series", type=Path)
     ap.add_argument("--binary", type=Path, default=ROOT / "build" / "mbsph")
     ap.add_argument("--dry-run", action="store_true", help="write the step case files only")
+    ap.add_argument("--ranks", type=int, default=None, help="MPI ranks (instead of the file's ranks)")
+    ap.add_argument("--launcher", default="mpirun",
+                    help="'mpirun' (default: mpirun -np ranks) or a launcher command given whole, e.g. 'srun'")
     a = ap.parse_args(argv)
     try:
         ser = load_series(a.series)
-        run_series(ser, a.binary, a.dry_run)
+        if a.ranks is not None:
+            ser.ranks = a.ranks
+        run_series(ser, a.binary, a.dry_run, a.launcher)
     except SeriesError as e:
         print(f"post.series: error: {e}", file=sys.stderr)
         return 2
