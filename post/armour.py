@@ -48,6 +48,7 @@ __all__ = [
     "ArmourLayer",
     "read_armour",
     "stability_number",
+    "van_der_meer_cubes_nod",
     "UnitMotion",
     "unit_motion",
     "ArmourDamage",
@@ -135,6 +136,15 @@ def read_armour(path: str | Path) -> ArmourLayer:
     col = {n: data[:, j] for j, n in enumerate(names)}
     return ArmourLayer(meta=meta, unit=col["unit"].astype(int), body=col["body"].astype(int),
                        x0=col["x0"], y0=col["y0"], angle0=col["angle0"])
+
+
+def van_der_meer_cubes_nod(ns: float | np.ndarray, n_waves: float, s_om: float | np.ndarray) -> np.ndarray:
+    """Damage Nod of a double layer of cubes by Van der Meer (1988):
+    ``Ns = (6.7 Nod^0.4 / N^0.3 + 1.0) s_om^-0.1``, solved for Nod; ``s_om`` is the
+    wave steepness 2 pi Hs / (g Tm^2) with the mean period Tm, ``N`` the number of waves.
+    Zero where Ns is below the formula's no-damage value ``s_om^-0.1``."""
+    x = np.asarray(ns, float) * np.asarray(s_om, float) ** 0.1 - 1.0
+    return np.where(x > 0.0, (np.maximum(x, 0.0) * n_waves ** 0.3 / 6.7) ** 2.5, 0.0)
 
 
 def stability_number(H: float, dn: float, density: float, rho_water: float) -> float:

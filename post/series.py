@@ -362,8 +362,18 @@ def plot(ser: Series, rows: list[StepResult]) -> Path:
     ax.axvspan(*lab["start_of_damage"]["Ns"], color="tab:green", alpha=0.2, label="start of damage (Van Gent 2003)")
     ax.axvspan(*lab["failure"]["Ns"], color="tab:red", alpha=0.2, label="failure (Van Gent 2003)")
     ax.plot([5.0], [1.0], "k*", ms=10, label="Van Buchem (2009): one unit")
+    # the double-layer cube formula for contrast, at the series' waves so far and mean period
+    lay = armour.read_armour(ser.out / "run")
+    delta = float(lay.meta["density"]) / float(lay.meta.get("rho_water", 1000.0)) - 1.0
+    tm = tm02_over_tp(ser.gamma) * ser.tp
+    grid = np.linspace(1.0, max(6.0, max(ns) + 0.5 if ns else 6.0), 200)
+    s_om = 2.0 * math.pi * grid * delta * lay.dn / (G * tm * tm)
+    n_total = ser.waves * len(rows)
+    ax.plot(grid, armour.van_der_meer_cubes_nod(grid, n_total, s_om), "k--", lw=1,
+            label=f"Van der Meer (1988), double layer, N = {n_total:g}")
     ax.set_xlabel("Ns = Hm0 / (Delta dn), incident at the toe")
     ax.set_ylabel("Nod (units displaced > threshold dn)")
+    ax.set_ylim(bottom=-0.2, top=max(3.0, max(nod) + 1.0 if nod else 3.0))
     ax.legend(fontsize=8)
     return save_figure(fig, ser.out / "series.png")
 

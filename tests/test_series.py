@@ -113,3 +113,14 @@ def test_incident_sea_separated_at_three_gauges() -> None:
     assert hm0_i == pytest.approx(0.08, rel=0.02)
     assert hm0_r / hm0_i == pytest.approx(0.4, abs=0.03)
     assert series.h2_percent(tu, eta_i) == pytest.approx(series.h2_percent(t, true_inc), rel=0.03)
+
+
+def test_van_der_meer_cube_formula() -> None:
+    """Van der Meer's double-layer cube formula solved for Nod: back in the formula it
+    gives the Ns it came from; no damage below s_om^-0.1; more waves, more damage."""
+    from post.armour import van_der_meer_cubes_nod
+    n, s = 1000.0, 0.04
+    nod = float(van_der_meer_cubes_nod(2.3, n, s))
+    assert (6.7 * nod ** 0.4 / n ** 0.3 + 1.0) * s ** -0.1 == pytest.approx(2.3, rel=1e-12)
+    assert float(van_der_meer_cubes_nod(0.99 * s ** -0.1, n, s)) == 0.0
+    assert float(van_der_meer_cubes_nod(2.3, 3000.0, s)) > nod
