@@ -36,7 +36,7 @@ job's time limit) continues from its last checkpoint: an interrupted series resu
 
 After every step, ``<out>/series.csv`` gets one row: the step, its time window, the
 incident Hm0 and H2% in front of the toe over the step's whole wave as it passes there (three gauges, Mansard and Funke's separation
-with the mean still-water depth at the gauges; H2% by zero up-crossing of the incident
+with the mean still-water depth at the gauges, over 0.5 to 3 times 1/Tp; H2% by zero up-crossing of the incident
 series rebuilt from the separated spectrum), the reflection coefficient, the stability
 number Ns = Hm0 / (Delta dn), the units displaced by more than ``threshold`` dn since the
 start of the series (cumulative: Nod of the 2D strip), the units that rocked in the step
@@ -244,17 +244,20 @@ def travel_time(nml, x0: float, x1: float, period: float, n: int = 200) -> float
 
 
 def incident_series(t: np.ndarray, etas: Sequence[np.ndarray], xs: Sequence[float], depth: float,
-                    band: tuple[float, float] = (0.5, 3.0)) -> tuple[np.ndarray, np.ndarray, float, float]:
+                    band: tuple[float, float] = (0.5, 3.0),
+                    fp: float | None = None) -> tuple[np.ndarray, np.ndarray, float, float]:
     """The incident and reflected elevations at the first gauge from three gauges (least
     squares per Fourier bin of the whole record, boxcar; bins of the band ``band`` times
-    the peak frequency only, elsewhere 0), and their Hm0."""
+    the peak frequency ``fp`` only, elsewhere 0), and their Hm0. ``fp`` defaults to the
+    peak of the record, which a slow change of the level can take: give the sea's."""
     tu, y, dt = waves._uniform(t, np.vstack([np.asarray(e, float) for e in etas]))
     y = y - y.mean(axis=1, keepdims=True)
     n = y.shape[1]
     Z = np.fft.rfft(y, axis=1)
     f = np.fft.rfftfreq(n, dt)
     power = np.mean(np.abs(Z) ** 2, axis=0)
-    fp = f[1 + int(np.argmax(power[1:]))]
+    if fp is None:
+        fp = f[1 + int(np.argmax(power[1:]))]
     x = np.asarray(xs, float) - float(xs[0])
     Ai = np.zeros(len(f), complex)
     Ar = np.zeros(len(f), complex)
@@ -314,7 +317,8 @@ def analyse_step(ser: Series, k: int) -> StepResult:
     ok = m & np.all(np.isfinite(np.vstack(etas)), axis=0)
     if ok.sum() < 64:
         raise SeriesError(f"{out}/gauges.csv: too few samples of step {k} at the toe gauges")
-    tu, eta_i, hm0_i, hm0_r = incident_series(time[ok], [e[ok] for e in etas], ser.toe_gauges, depth)
+    tu, eta_i, hm0_i, hm0_r = incident_series(time[ok], [e[ok] for e in etas], ser.toe_gauges, depth,
+                                              fp=1.0 / ser.tp)
     lay = armour.read_armour(out)
     bodies = read_csv(out / "bodies.csv")
     rho_w = float(lay.meta.get("rho_water", 1000.0))

@@ -602,6 +602,7 @@ contains
       pad%tau = wm%absorb_time
       if (pad%tau <= 0.0_rp) pad%tau = 5.0_rp*period
       pad%x_face = wm%x0
+      pad%x_max = 0.5_rp*wm%max_stroke
       lines = lines//new_line('a')//'  absorbing paddle: gain '//real_str(pad%gain)//' 1/s (sqrt(g/d) = '// &
               real_str(sqrt(g/wm%depth))//'), drift and mean-level time '//real_str(pad%tau)//' s'
    end subroutine absorber

@@ -43,6 +43,7 @@ module wave_paddle
       real(rp) :: eta1 = 0.0_rp        !< regular: amplitude of the target elevation at the paddle [m]
       type(signal_t) :: sig_eta        !< irregular: the target elevation at the paddle
       real(rp) :: x_face = 0.0_rp      !< rest position of the face at the still-water level [m]
+      real(rp) :: x_max = 0.0_rp       !< the paddle's excursion allowed, max_stroke / 2 [m]
       real(rp) :: gauge_offset = 0.0_rp   !< the elevation is measured this far in front of the face [m]
       real(rp) :: celerity = 0.0_rp    !< phase speed at the (peak) period [m/s]
       real(rp) :: delay = 0.0_rp       !< gauge_offset / celerity [s]

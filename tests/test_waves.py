@@ -459,6 +459,24 @@ def test_absorbing_paddle_reflection(absorb: bool, tmp_path: Path, mbsph: Path) 
         assert r.Kr > 0.85, f"Kr = {r.Kr:.3f}"
 
 
+def test_absorbing_paddle_stops_at_its_stroke(tmp_path: Path, mbsph: Path) -> None:
+    """An absorbing paddle that the waves coming back would push beyond max_stroke/2
+    (here 5 mm, against the about 11 mm its absorption asks for) stops the run with
+    exit status 1, naming max_stroke, and leaves a last snapshot; before it stops, it
+    has moved by more than a millimetre (it was absorbing)."""
+    from post.wave_cases import absorption_case
+    f = absorption_case(1.2, dp=0.25 / 10, absorb=True, out_dir="OUT")
+    head, sep, tail = f.text.partition("&wavemaker")
+    tail = re.sub(r"height = [0-9.]+", "height = 0.002", tail, count=1)
+    tail = tail.replace("  absorb = .true.", "  absorb = .true., max_stroke = 0.01")
+    proc, out = run_case(head + sep + tail, tmp_path, binary=mbsph, name=CASE)
+    assert proc.returncode == 1, describe(proc)
+    msg = error_line(proc)
+    assert "max_stroke/2 = " in msg and "absorbing paddle" in msg, msg
+    from test_cases import snapshots
+    assert len(snapshots(out)) >= 2, "a last snapshot is written before the stop"
+
+
 def test_absorbing_paddle_makes_the_same_wave(tmp_path: Path, mbsph: Path) -> None:
     """The absorber must not take from the wave the paddle makes: in a flume with a
     damping zone, the first-harmonic height 1 and 1.5 wavelengths from an absorbing
