@@ -36,6 +36,33 @@ class Flume:
     damping: tuple[float, float]
 
 
+def _run_to_numerics(case_name: str, t_end: float, T: float, out_dir: str, extra_run: str, xmax: float,
+                     thick: float, top: float, dp: float, h_over_dp: float | None, extra_numerics: str) -> str:
+    """The &run, &domain, &fluid and &numerics groups every flume of this module shares."""
+    return f"""&run
+  case_name = '{case_name}'
+  t_end = {t_end:.6f}
+  dt_out = {max(T / 2.0, 0.1):.6f}
+  out_dir = '{out_dir}'
+  overwrite = .true.
+  gauge_interval = {T / 40.0:.6f}
+{extra_run}
+/
+&domain
+  xmin = 0.0, xmax = {xmax:.6f}, ymin = {-thick - 0.01:.6f}, ymax = {top + 0.05:.6f}
+/
+&fluid
+  rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = {G}
+/
+&numerics
+  dp = {dp}{"" if h_over_dp is None else f"{chr(10)}  h_over_dp = {h_over_dp}"}
+  viscosity = 'artificial', alpha = 0.01
+  diffusion = 'fourtakas', delta = 0.1
+{extra_numerics}
+/
+"""
+
+
 def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: float = 0.0125,
                paddle: str = "piston", out_dir: str = "OUT/waves", gauges_at=(2.0, 2.25, 2.5, 2.75, 3.0),
                damping_len: float = 1.5, periods_after: float = 4.0, extra_run: str = "",
@@ -71,28 +98,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
 ! T = {T:.6f} s, L = {L:.6f} m, H = {H:.6f} m (steepness H/L = {steepness}).
 ! Gauges at {', '.join(str(a) for a in gauges_at)} wavelengths from the paddle; damping zone
 ! over the last {damping_len} L. Made by post/wave_cases.py.
-&run
-  case_name = '{case_name}'
-  t_end = {t_end:.6f}
-  dt_out = {max(T / 2.0, 0.1):.6f}
-  out_dir = '{out_dir}'
-  overwrite = .true.
-  gauge_interval = {T / 40.0:.6f}
-{extra_run}
-/
-&domain
-  xmin = 0.0, xmax = {x_end + thick + 0.01:.6f}, ymin = {-thick - 0.01:.6f}, ymax = {top + 0.05:.6f}
-/
-&fluid
-  rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = {G}
-/
-&numerics
-  dp = {dp}{"" if h_over_dp is None else f"{chr(10)}  h_over_dp = {h_over_dp}"}
-  viscosity = 'artificial', alpha = 0.01
-  diffusion = 'fourtakas', delta = 0.1
-{extra_numerics}
-/
-&box role = 'solid', xmin = 0.0, xmax = {x_end + thick:.6f}, ymin = {-thick:.6f}, ymax = 0.0 /
+{_run_to_numerics(case_name, t_end, T, out_dir, extra_run, x_end + thick + 0.01, thick, top, dp, h_over_dp, extra_numerics)}&box role = 'solid', xmin = 0.0, xmax = {x_end + thick:.6f}, ymin = {-thick:.6f}, ymax = 0.0 /
 &box role = 'solid', xmin = {x_end:.6f}, xmax = {x_end + thick:.6f}, ymin = 0.0, ymax = {top:.6f} /
 &box role = 'fluid', xmin = {x0:.6f}, xmax = {x_end:.6f}, ymin = 0.0, ymax = {depth:.6f} /
 &wavemaker
@@ -157,27 +163,7 @@ def absorption_case(kh: float, *, depth: float = 0.25, steepness: float = 0.02, 
 ! L = {L:.6f} m, H = {H:.6f} m) made by a piston wall at the far end, {flume_waves} L away,
 ! runs to the paddle, which rests and {"absorbs" if absorb else "does not absorb"}. Gauges at 0.5 and 0.75 L.
 ! Made by post/wave_cases.py (absorption_case).
-&run
-  case_name = '{case_name}'
-  t_end = {t_end:.6f}
-  dt_out = {max(T / 2.0, 0.1):.6f}
-  out_dir = '{out_dir}'
-  overwrite = .true.
-  gauge_interval = {T / 40.0:.6f}
-/
-&domain
-  xmin = 0.0, xmax = {x_far + thick + 2.0 * amp + 0.02:.6f}, ymin = {-thick - 0.01:.6f}, ymax = {top + 0.05:.6f}
-/
-&fluid
-  rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = {G}
-/
-&numerics
-  dp = {dp}{"" if h_over_dp is None else f"{chr(10)}  h_over_dp = {h_over_dp}"}
-  viscosity = 'artificial', alpha = 0.01
-  diffusion = 'fourtakas', delta = 0.1
-{extra_numerics}
-/
-&box role = 'solid', xmin = 0.0, xmax = {x_far + thick + 2.0 * amp:.6f}, ymin = {-thick:.6f}, ymax = 0.0 /
+{_run_to_numerics(case_name, t_end, T, out_dir, '', x_far + thick + 2.0 * amp + 0.02, thick, top, dp, h_over_dp, extra_numerics)}&box role = 'solid', xmin = 0.0, xmax = {x_far + thick + 2.0 * amp:.6f}, ymin = {-thick:.6f}, ymax = 0.0 /
 &box role = 'solid', xmin = {x_far:.6f}, xmax = {x_far + thick:.6f}, ymin = 0.0, ymax = {top:.6f},
   motion = 'oscillate', amplitude = {-amp:.6f}, 0.0, period = {T:.6f} /
 &box role = 'fluid', xmin = {x0:.6f}, xmax = {x_far:.6f}, ymin = 0.0, ymax = {depth:.6f} /
