@@ -20,6 +20,13 @@ def period_for_kh(kh: float, depth: float, g: float = G) -> float:
     return 2.0 * math.pi / math.sqrt(g * k * math.tanh(kh))
 
 
+def biesel_transfer(kh: float, paddle: str) -> float:
+    """Biesel's H/S of a piston, or of a flap hinged at the bed (S at the still-water level)."""
+    if paddle == "piston":
+        return 2.0 * (math.cosh(2.0 * kh) - 1.0) / (math.sinh(2.0 * kh) + 2.0 * kh)
+    return 4.0 * math.sinh(kh) / kh * (kh * math.sinh(kh) - math.cosh(kh) + 1.0) / (math.sinh(2.0 * kh) + 2.0 * kh)
+
+
 @dataclass
 class Flume:
     """Layout of a flume case, in metres and seconds."""
@@ -147,7 +154,7 @@ def absorption_case(kh: float, *, depth: float = 0.25, steepness: float = 0.02, 
     L = 2.0 * math.pi / k
     H = steepness * L
     cg = 0.5 * (1.0 + 2.0 * kh / math.sinh(2.0 * kh)) * L / T
-    hs = 2.0 * (math.cosh(2.0 * kh) - 1.0) / (math.sinh(2.0 * kh) + 2.0 * kh)   # Biesel H/S of a piston
+    hs = biesel_transfer(kh, "piston")
     amp = 0.5 * H / hs
     h = (math.sqrt(2.0) if h_over_dp is None else h_over_dp) * dp
     layers = math.ceil(2.0 * h / dp - 1e-9)

@@ -24,17 +24,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from post.wave_cases import absorption_case, period_for_kh  # noqa: E402
+from post.wave_cases import absorption_case, biesel_transfer, period_for_kh  # noqa: E402
 from post.waves import paddle_reflection_coefficient, read_gauges  # noqa: E402
 
 G = 9.81
-
-
-def transfer(kh: float, paddle: str) -> float:
-    """Biesel's H/S of a piston or of a flap hinged at the bed."""
-    if paddle == "piston":
-        return 2.0 * (math.cosh(2.0 * kh) - 1.0) / (math.sinh(2.0 * kh) + 2.0 * kh)
-    return 4.0 * math.sinh(kh) / kh * (kh * math.sinh(kh) - math.cosh(kh) + 1.0) / (math.sinh(2.0 * kh) + 2.0 * kh)
 
 
 def linear_kr(kh: float, gain_kh: float, paddle: str, depth: float) -> float:
@@ -42,7 +35,7 @@ def linear_kr(kh: float, gain_kh: float, paddle: str, depth: float) -> float:
     absorbs a wave of kh (linear theory, the gauge at the face)."""
     def ideal(khx: float) -> float:
         omega = 2.0 * math.pi / period_for_kh(khx, depth)
-        return omega / transfer(khx, paddle)
+        return omega / biesel_transfer(khx, paddle)
     r = ideal(gain_kh) / ideal(kh)
     return abs(1.0 - r) / (1.0 + r)
 
