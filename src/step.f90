@@ -173,8 +173,7 @@ contains
          call timer_stop(t_bodies)
       end if
       ! the pairs' share of the halo particles, to their owners
-      call comm_halo_reverse(halo, w%acc, p%n_own)
-      call comm_halo_reverse(halo, w%drho, p%n_own)
+      call comm_halo_reverse(halo, w%acc, w%drho, p%n_own)
       if (w%shift_now) call comm_halo_reverse(halo, w%sh, p%n_own)
       if (prm%boundary == bnd_mdbc) call mdbc_rates(p%n_own, p%kind, w%drho)
       ! the pore water's acceleration needs the whole pair sums
@@ -300,7 +299,7 @@ contains
       integer, intent(in) :: istep
       real(rp), intent(out) :: dt
       integer :: i
-      real(rp) :: hdt, eps, lim, lim_cfl
+      real(rp) :: hdt, lim, lim_cfl
       logical :: symplectic
       symplectic = prm%integrator /= integ_predictor_corrector
       ! particle shifting takes the sums of the step's middle only
@@ -312,15 +311,7 @@ contains
       call timer_start(t_integrate)
       call save_state(ss, p)
       ! predictor: half a step with the rates at t
-      do i = 1, p%n_own
-         p%rho(i) = p%rho(i) + hdt*w%drho(i)
-         if (p%kind(i) == kind_fluid) then
-            p%x(:, i) = p%x(:, i) + hdt*p%v(:, i)
-            p%v(:, i) = p%v(:, i) + hdt*w%acc(:, i)
-         else
-            p%rho(i) = max(p%rho(i), prm%rho0)
-         end if
-      end do
+      call move_predict(p%n_own, p%kind, hdt, prm%rho0, w%drho, w%acc, p%rho, p%x, p%v)
       if (walls%moving) call motion_apply(walls, p, t + hdt)
       if (size(bodies) > 0) then
          call bodies_save(bodies)
@@ -337,16 +328,7 @@ contains
       call note_ratio(ss, dt, [lim_cfl, lim], istep)
       call timer_start(t_integrate)
       if (symplectic) then
-         do i = 1, p%n_own
-            eps = -(w%drho(i)/p%rho(i))*dt
-            p%rho(i) = ss%rho0(i)*(2.0_rp - eps)/(2.0_rp + eps)
-            if (p%kind(i) == kind_fluid) then
-               p%v(:, i) = ss%v0(:, i) + dt*w%acc(:, i)
-               p%x(:, i) = p%x(:, i) + hdt*p%v(:, i)
-            else
-               p%rho(i) = max(p%rho(i), prm%rho0)
-            end if
-         end do
+         call move_symplectic(p%n_own, p%kind, dt, prm%rho0, w%drho, w%acc, ss%rho0, ss%v0, p%rho, p%x, p%v)
       else
          ! corrector to t + dt/2 with the mid-step rates, then extrapolate to t + dt
          do i = 1, p%n_own
@@ -391,8 +373,6 @@ contains
       real(rp), intent(in) :: t
       integer, intent(in) :: istep
       real(rp), intent(out) :: dt
-      integer :: i
-      real(rp) :: vnew(ndim), rnew, dt2, hdt2
       logical :: euler
       w%shift_now = prm%shift /= shift_none
       call evaluate(prm, por, g, p, halo, w, bodies, ct)
@@ -400,29 +380,7 @@ contains
       if (dt > ss%dt_limit) return
       call timer_start(t_integrate)
       euler = mod(istep, prm%verlet_every) == 0
-      dt2 = 2.0_rp*dt
-      hdt2 = 0.5_rp*dt*dt
-      do i = 1, p%n_own
-         if (euler) then
-            rnew = p%rho(i) + dt*w%drho(i)
-         else
-            rnew = p%rhom1(i) + dt2*w%drho(i)
-         end if
-         p%rhom1(i) = p%rho(i)
-         if (p%kind(i) == kind_fluid) then
-            if (euler) then
-               vnew = p%v(:, i) + dt*w%acc(:, i)
-            else
-               vnew = p%vm1(:, i) + dt2*w%acc(:, i)
-            end if
-            p%x(:, i) = p%x(:, i) + dt*p%v(:, i) + hdt2*w%acc(:, i)
-            p%vm1(:, i) = p%v(:, i)
-            p%v(:, i) = vnew
-            p%rho(i) = rnew
-         else
-            p%rho(i) = max(rnew, prm%rho0)
-         end if
-      end do
+      call move_verlet(p%n_own, p%kind, dt, euler, prm%rho0, w%drho, w%acc, p%rho, p%rhom1, p%x, p%v, p%vm1)
       if (prm%shift /= shift_none) call shifting_apply(prm, p, w%sh, dt)
       if (walls%moving) call motion_apply(walls, p, t + dt)
       if (size(bodies) > 0) then
@@ -432,4 +390,99 @@ contains
       end if
       call timer_stop(t_integrate)
    end subroutine verlet
+
+   ! The particle updates of the integrators: one loop each over explicit-shape
+   ! arrays that the compiler runs several particles at a time. A fluid particle
+   ! moves; a solid one keeps its position and velocity (its motion is its wall's
+   ! or body's) and its density stays at or above rho0. The kind enters as a
+   ! factor f (1 for fluid, 0 otherwise), not as a branch or a masked store,
+   ! which the compiler does not vectorise: for a fluid particle f*dt is dt and
+   ! f*a + (1-f)*b is a, the same numbers as the branch gave. Scalars are copied
+   ! to locals for the same reason (a dummy is a reference the loop would load).
+
+   !> Symplectic predictor: half a step hdt with the rates at the step's start.
+   pure subroutine move_predict(n, kind, hdt_in, rho0_in, drho, acc, rho, x, v)
+      integer, intent(in) :: n, kind(n)
+      real(rp), intent(in) :: hdt_in, rho0_in, drho(n), acc(ndim, n)
+      real(rp), intent(inout) :: rho(n), x(ndim, n), v(ndim, n)
+      integer :: i, d
+      real(rp) :: f, r, hdt, rho0
+      hdt = hdt_in
+      rho0 = rho0_in
+      do i = 1, n
+         f = merge(1.0_rp, 0.0_rp, kind(i) == kind_fluid)
+         r = rho(i) + hdt*drho(i)
+         rho(i) = merge(r, max(r, rho0), kind(i) == kind_fluid)
+         do d = 1, ndim
+            x(d, i) = x(d, i) + (f*hdt)*v(d, i)
+            v(d, i) = v(d, i) + (f*hdt)*acc(d, i)
+         end do
+      end do
+   end subroutine move_predict
+
+   !> Symplectic corrector: the whole step dt from the start state (rhos, vs)
+   !> with the rates of the step's middle; positions from the middle.
+   pure subroutine move_symplectic(n, kind, dt_in, rho0_in, drho, acc, rhos, vs, rho, x, v)
+      integer, intent(in) :: n, kind(n)
+      real(rp), intent(in) :: dt_in, rho0_in, drho(n), acc(ndim, n), rhos(n), vs(ndim, n)
+      real(rp), intent(inout) :: rho(n), x(ndim, n), v(ndim, n)
+      integer :: i, d
+      real(rp) :: f, eps, r, dt, hdt, rho0, vn
+      dt = dt_in
+      hdt = 0.5_rp*dt
+      rho0 = rho0_in
+      do i = 1, n
+         f = merge(1.0_rp, 0.0_rp, kind(i) == kind_fluid)
+         eps = -(drho(i)/rho(i))*dt
+         r = rhos(i)*(2.0_rp - eps)/(2.0_rp + eps)
+         rho(i) = merge(r, max(r, rho0), kind(i) == kind_fluid)
+         do d = 1, ndim
+            vn = vs(d, i) + dt*acc(d, i)
+            x(d, i) = x(d, i) + (f*hdt)*vn
+            v(d, i) = f*vn + (1.0_rp - f)*v(d, i)
+         end do
+      end do
+   end subroutine move_symplectic
+
+   !> Verlet: rho, v from their values a step back (rhom1, vm1) over 2 dt, or
+   !> with euler from the present ones over dt; x by a second-order Taylor step.
+   pure subroutine move_verlet(n, kind, dt_in, euler, rho0_in, drho, acc, rho, rhom1, x, v, vm1)
+      integer, intent(in) :: n, kind(n)
+      real(rp), intent(in) :: dt_in, rho0_in, drho(n), acc(ndim, n)
+      logical, intent(in) :: euler
+      real(rp), intent(inout) :: rho(n), rhom1(n), x(ndim, n), v(ndim, n), vm1(ndim, n)
+      integer :: i, d
+      real(rp) :: f, r, vn, dt, dt2, hdt2, rho0
+      dt = dt_in
+      rho0 = rho0_in
+      hdt2 = 0.5_rp*dt*dt
+      if (euler) then
+         do i = 1, n
+            f = merge(1.0_rp, 0.0_rp, kind(i) == kind_fluid)
+            r = rho(i) + dt*drho(i)
+            rhom1(i) = rho(i)
+            rho(i) = merge(r, max(r, rho0), kind(i) == kind_fluid)
+            do d = 1, ndim
+               vn = v(d, i) + dt*acc(d, i)
+               x(d, i) = x(d, i) + (f*dt)*v(d, i) + (f*hdt2)*acc(d, i)
+               vm1(d, i) = f*v(d, i) + (1.0_rp - f)*vm1(d, i)
+               v(d, i) = f*vn + (1.0_rp - f)*v(d, i)
+            end do
+         end do
+      else
+         dt2 = 2.0_rp*dt
+         do i = 1, n
+            f = merge(1.0_rp, 0.0_rp, kind(i) == kind_fluid)
+            r = rhom1(i) + dt2*drho(i)
+            rhom1(i) = rho(i)
+            rho(i) = merge(r, max(r, rho0), kind(i) == kind_fluid)
+            do d = 1, ndim
+               vn = vm1(d, i) + dt2*acc(d, i)
+               x(d, i) = x(d, i) + (f*dt)*v(d, i) + (f*hdt2)*acc(d, i)
+               vm1(d, i) = f*v(d, i) + (1.0_rp - f)*vm1(d, i)
+               v(d, i) = f*vn + (1.0_rp - f)*v(d, i)
+            end do
+         end do
+      end if
+   end subroutine move_verlet
 end module step

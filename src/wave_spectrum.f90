@@ -204,9 +204,15 @@ contains
       character(len=200) :: emsg
       n = size(eta)
       if (n < 2) call fatal('signal_periodogram: need at least 2 samples')
-      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (c(0:n/2), f(n/2), s(n/2), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'c, f, s in signal_periodogram')
+      ! f and s each by itself: their bounds are then set whatever becomes of
+      ! another allocation (the optimiser cannot tell that alloc_check does not
+      ! return from a refusal)
+      allocate (f(n/2), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'f in signal_periodogram')
+      allocate (s(n/2), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 's in signal_periodogram')
+      allocate (c(0:n/2), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'c in signal_periodogram')
       call fft_r2c(eta, c)
       df = 1.0_rp/(n*dt)
       do k = 1, n/2
@@ -214,7 +220,7 @@ contains
          ! |c_k|^2 / n^2 is the power of bin k; bins k and n-k are folded, except the Nyquist bin
          s(k) = 2.0_rp*abs(c(k))**2/(real(n, rp)**2*df)
       end do
-      if (mod(n, 2) == 0) s(n/2) = 0.5_rp*s(n/2)
+      if (mod(n, 2) == 0 .and. n >= 2) s(n/2) = 0.5_rp*s(n/2)
    end subroutine signal_periodogram
 
    !> Spectral significant wave height Hm0 = 4 sqrt(m0) [m] of a record
