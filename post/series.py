@@ -1,7 +1,8 @@
 """Test series like a laboratory's: on one armour layer, steps of irregular (JONSWAP)
 waves of rising Hs, each a restart of the last, so that the layer keeps its damage.
 
-    python -m post.series study/series_trial.toml [--dry-run] [--report-only]
+    python -m post.series study/series/trial.toml [--dry-run] [--ranks N] [--launcher srun]
+    python -m post.series A.toml B.toml ... --overlay doc/img/damage_overlay.png
 
 A series file (TOML)::
 
@@ -41,7 +42,8 @@ series rebuilt from the separated spectrum), the reflection coefficient, the sta
 number Ns = Hm0 / (Delta dn), the units displaced by more than ``threshold`` dn since the
 start of the series (cumulative: Nod of the 2D strip), the units that rocked in the step
 (turned by more than ``rocking_deg`` and came back within it) and the largest
-displacement. ``<out>/series.png`` shows Nod against Ns.
+displacement. ``<out>/series.png`` shows Nod against Ns; ``--overlay`` draws the curves
+of several series (both placements, several seeds) on one figure from their CSVs.
 """
 
 from __future__ import annotations
@@ -382,6 +384,46 @@ def plot(ser: Series, rows: list[StepResult]) -> Path:
     return save_figure(fig, ser.out / "series.png")
 
 
+def placement_label(ser: Series) -> str:
+    """The layer a series tests: the base case's &armour placement and seed, with the
+    series' [patch] over them."""
+    arm = dict(f90nml.read(str(ser.case)).get("armour", {}))
+    arm.update(ser.patch.get("armour", {}))
+    return f"{arm.get('placement', 'regular')} placement, seed {arm.get('seed', 1)}"
+
+
+def overlay_data(sers: Sequence[Series]) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """(label, Ns, Nod) of every series from its series.csv, in the order given."""
+    data = []
+    for ser in sers:
+        path = ser.out / "series.csv"
+        if not path.is_file():
+            raise SeriesError(f"{path}: no such file: run the series {ser.name} first")
+        rows = read_csv(path)
+        data.append((f"{ser.name}: {placement_label(ser)}", np.asarray(rows["Ns"], float),
+                     np.asarray(rows["displaced"], float)))
+    return data
+
+
+def plot_overlay(sers: Sequence[Series], path: Path) -> Path:
+    """Nod against Ns of several series on one figure (placements, seeds), with the
+    laboratory's ranges: the spread between seeds is the answer's uncertainty."""
+    fig, ax = plt.subplots(figsize=(6.0, 4.2))
+    lab = armour.LAB_RANGES
+    ax.axvspan(*lab["start_of_damage"]["Ns"], color="tab:green", alpha=0.2, label="start of damage (Van Gent 2003)")
+    ax.axvspan(*lab["failure"]["Ns"], color="tab:red", alpha=0.2, label="failure (Van Gent 2003)")
+    ax.plot([5.0], [1.0], "k*", ms=10, label="Van Buchem (2009): one unit")
+    top = 3.0
+    for (label, ns, nod), marker in zip(overlay_data(sers), "osD^v<>ph"):
+        ax.plot(ns, nod, marker + "-", label=label)
+        top = max(top, float(np.max(nod)) + 1.0 if nod.size else top)
+    ax.set_xlabel("Ns = Hm0 / (Delta dn), incident at the toe")
+    ax.set_ylabel("Nod (units displaced > threshold dn)")
+    ax.set_ylim(bottom=-0.2, top=top)
+    ax.legend(fontsize=8)
+    return save_figure(fig, path)
+
+
 # ------------------------------------------------------------------ running
 
 
@@ -433,7 +475,9 @@ def run_series(ser: Series, binary: Path, dry_run: bool = False, launcher: str =
 
 def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("series", type=Path)
+    ap.add_argument("series", type=Path, nargs="+", help="series file(s); several with --overlay")
+    ap.add_argument("--overlay", type=Path, default=None, metavar="PNG",
+                    help="no runs: draw Nod against Ns of the series given (their series.csv) on one figure")
     ap.add_argument("--binary", type=Path, default=ROOT / "build" / "mbsph")
     ap.add_argument("--dry-run", action="store_true", help="write the step case files only")
     ap.add_argument("--ranks", type=int, default=None, help="MPI ranks (instead of the file's ranks)")
@@ -441,7 +485,12 @@ def main(argv: Sequence[str] | None = None) -> int:
                     help="'mpirun' (default: mpirun -np ranks) or a launcher command given whole, e.g. 'srun'")
     a = ap.parse_args(argv)
     try:
-        ser = load_series(a.series)
+        if a.overlay is not None:
+            print(plot_overlay([load_series(p) for p in a.series], a.overlay))
+            return 0
+        if len(a.series) != 1:
+            raise SeriesError("one series file at a time (several only with --overlay)")
+        ser = load_series(a.series[0])
         if a.ranks is not None:
             ser.ranks = a.ranks
         run_series(ser, a.binary, a.dry_run, a.launcher)
@@ -456,4 +505,4 @@ if __name__ == "__main__":
 
 
 __all__: list[Any] = ["Series", "Step", "load_series", "schedule", "step_text", "incident_series", "h2_percent",
-                      "analyse_step", "run_series", "main"]
+                      "analyse_step", "run_series", "overlay_data", "plot_overlay", "main"]

@@ -124,3 +124,28 @@ def test_van_der_meer_cube_formula() -> None:
     assert (6.7 * nod ** 0.4 / n ** 0.3 + 1.0) * s ** -0.1 == pytest.approx(2.3, rel=1e-12)
     assert float(van_der_meer_cubes_nod(0.99 * s ** -0.1, n, s)) == 0.0
     assert float(van_der_meer_cubes_nod(2.3, 3000.0, s)) > nod
+
+
+def test_overlay_reads_each_series_and_names_its_layer(tmp_path: Path) -> None:
+    """The overlay takes Ns and Nod from each series' CSV and labels each curve with the
+    layer it tested (placement and seed, the [patch] over the base case); a series not
+    yet run is named in the error."""
+    a = series.load_series(write(tmp_path, BASE))
+    b_path = tmp_path / "b.toml"
+    b_path.write_text(BASE.replace("armour = {{ seed = 8 }}", "armour = {{ seed = 9 }}")
+                      .format(out=tmp_path / "out_b"))
+    b = series.load_series(b_path)
+    for ser, ns, nod in ((a, "2.5,3.4", "0,2"), (b, "2.6,3.5", "1,3")):
+        with pytest.raises(series.SeriesError, match=f"{ser.out.name}/series.csv: no such file"):
+            series.overlay_data([a, b])
+        ser.out.mkdir(parents=True)
+        head = "step,hs_target,seed,t_start,t_end,Hm0_i,H2_i,Kr,Ns,displaced,rocking,max_disp_dn\n"
+        rows = [f"{k + 1},0.06,1,0,1,0.05,0.06,0.3,{x},{d},0,0.5\n"
+                for k, (x, d) in enumerate(zip(ns.split(","), nod.split(",")))]
+        (ser.out / "series.csv").write_text(head + "".join(rows))
+    data = series.overlay_data([a, b])
+    assert [d[0] for d in data] == ["s: irregular placement, seed 8", "b: irregular placement, seed 9"]
+    assert data[0][1].tolist() == [2.5, 3.4] and data[0][2].tolist() == [0, 2]
+    assert data[1][1].tolist() == [2.6, 3.5] and data[1][2].tolist() == [1, 3]
+    png = series.plot_overlay([a, b], tmp_path / "overlay.png")
+    assert png.stat().st_size > 10_000
