@@ -209,12 +209,14 @@ contains
          call paddle_motion(pad, r%st%t, xf, uf)
          ! the domain was checked for max_stroke / 2 each way: stop before the paddle leaves it
          ! (every rank has the same xf: the snapshot's collective writing is reached by all)
-         if (abs(xf) > pad%x_max) call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, &
-                                                      r%st%istep, r%case_text, r%bodies, r%por)
-         if (abs(xf) > pad%x_max) call fatal('at t = '//real_str(r%st%t)//' s the absorbing paddle stands at X = '// &
-            real_str(xf)//' m, beyond max_stroke/2 = '//real_str(pad%x_max)//' m: the waves coming back ask '// &
-            'for more stroke than the case allows; raise max_stroke (and the domain), lower the wave, or '// &
-            'set absorb = .false.')
+         if (abs(xf) > pad%x_max) then
+            call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, &
+                                r%bodies, r%por)
+            call fatal('at t = '//real_str(r%st%t)//' s the absorbing paddle stands at X = '// &
+                       real_str(xf)//' m, beyond max_stroke/2 = '//real_str(pad%x_max)//' m: the waves coming back ask '// &
+                       'for more stroke than the case allows; raise max_stroke (and the domain), lower the wave, or '// &
+                       'set absorb = .false.')
+         end if
          r%pg%x(1) = pad%x_face + xf + pad%gauge_offset
          call gauges_sums(r%pg, r%prm, r%g, r%p, r%por, acc)
          call comm_sum(acc)
