@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import itertools
 import math
 import os
 import subprocess
@@ -388,8 +389,10 @@ def placement_label(ser: Series) -> str:
     """The layer a series tests: the base case's &armour placement and seed, with the
     series' [patch] over them."""
     arm = dict(f90nml.read(str(ser.case)).get("armour", {}))
-    arm.update(ser.patch.get("armour", {}))
-    return f"{arm.get('placement', 'regular')} placement, seed {arm.get('seed', 1)}"
+    arm.update({k.lower(): v for k, v in ser.patch.get("armour", {}).items()})
+    placement = str(arm.get("placement", "regular"))
+    # the seed places the units of the irregular placement only
+    return f"{placement} placement" + (f", seed {arm.get('seed', 1)}" if placement == "irregular" else "")
 
 
 def overlay_data(sers: Sequence[Series]) -> list[tuple[str, np.ndarray, np.ndarray]]:
@@ -414,7 +417,7 @@ def plot_overlay(sers: Sequence[Series], path: Path) -> Path:
     ax.axvspan(*lab["failure"]["Ns"], color="tab:red", alpha=0.2, label="failure (Van Gent 2003)")
     ax.plot([5.0], [1.0], "k*", ms=10, label="Van Buchem (2009): one unit")
     top = 3.0
-    for (label, ns, nod), marker in zip(overlay_data(sers), "osD^v<>ph"):
+    for (label, ns, nod), marker in zip(overlay_data(sers), itertools.cycle("osD^v<>ph")):
         ax.plot(ns, nod, marker + "-", label=label)
         top = max(top, float(np.max(nod)) + 1.0 if nod.size else top)
     ax.set_xlabel("Ns = Hm0 / (Delta dn), incident at the toe")

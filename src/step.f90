@@ -397,8 +397,11 @@ contains
    ! or body's) and its density stays at or above rho0. The kind enters as a
    ! factor f (1 for fluid, 0 otherwise), not as a branch or a masked store,
    ! which the compiler does not vectorise: for a fluid particle f*dt is dt and
-   ! f*a + (1-f)*b is a, the same numbers as the branch gave. Scalars are copied
-   ! to locals for the same reason (a dummy is a reference the loop would load).
+   ! f*a + (1-f)*b is a, the same numbers as the branch gave. A solid particle's
+   ! x + 0*v is x, and 0*a + b is b, as long as its rates and velocities are
+   ! finite (they are: a NaN anywhere stops the run after the step, check_state),
+   ! a -0.0 becoming +0.0. Scalars are copied to locals for the same reason (a
+   ! dummy is a reference the loop would load).
 
    !> Symplectic predictor: half a step hdt with the rates at the step's start.
    pure subroutine move_predict(n, kind, hdt_in, rho0_in, drho, acc, rho, x, v)
