@@ -455,37 +455,25 @@ contains
       logical, intent(in) :: euler
       real(rp), intent(inout) :: rho(n), rhom1(n), x(ndim, n), v(ndim, n), vm1(ndim, n)
       integer :: i, d
-      real(rp) :: f, r, vn, dt, dt2, hdt2, rho0
+      real(rp) :: f, e, r, vn, dt, dtv, hdt2, rho0
       dt = dt_in
       rho0 = rho0_in
       hdt2 = 0.5_rp*dt*dt
-      if (euler) then
-         do i = 1, n
-            f = merge(1.0_rp, 0.0_rp, kind(i) == kind_fluid)
-            r = rho(i) + dt*drho(i)
-            rhom1(i) = rho(i)
-            rho(i) = merge(r, max(r, rho0), kind(i) == kind_fluid)
-            do d = 1, ndim
-               vn = v(d, i) + dt*acc(d, i)
-               x(d, i) = x(d, i) + (f*dt)*v(d, i) + (f*hdt2)*acc(d, i)
-               vm1(d, i) = f*v(d, i) + (1.0_rp - f)*vm1(d, i)
-               v(d, i) = f*vn + (1.0_rp - f)*v(d, i)
-            end do
+      ! the step starts from the present values over dt (euler: e = 1) or from
+      ! those a step back over 2 dt (e = 0), by the same factors as the kind
+      e = merge(1.0_rp, 0.0_rp, euler)
+      dtv = merge(dt, 2.0_rp*dt, euler)
+      do i = 1, n
+         f = merge(1.0_rp, 0.0_rp, kind(i) == kind_fluid)
+         r = (e*rho(i) + (1.0_rp - e)*rhom1(i)) + dtv*drho(i)
+         rhom1(i) = rho(i)
+         rho(i) = merge(r, max(r, rho0), kind(i) == kind_fluid)
+         do d = 1, ndim
+            vn = (e*v(d, i) + (1.0_rp - e)*vm1(d, i)) + dtv*acc(d, i)
+            x(d, i) = x(d, i) + (f*dt)*v(d, i) + (f*hdt2)*acc(d, i)
+            vm1(d, i) = f*v(d, i) + (1.0_rp - f)*vm1(d, i)
+            v(d, i) = f*vn + (1.0_rp - f)*v(d, i)
          end do
-      else
-         dt2 = 2.0_rp*dt
-         do i = 1, n
-            f = merge(1.0_rp, 0.0_rp, kind(i) == kind_fluid)
-            r = rhom1(i) + dt2*drho(i)
-            rhom1(i) = rho(i)
-            rho(i) = merge(r, max(r, rho0), kind(i) == kind_fluid)
-            do d = 1, ndim
-               vn = vm1(d, i) + dt2*acc(d, i)
-               x(d, i) = x(d, i) + (f*dt)*v(d, i) + (f*hdt2)*acc(d, i)
-               vm1(d, i) = f*v(d, i) + (1.0_rp - f)*vm1(d, i)
-               v(d, i) = f*vn + (1.0_rp - f)*v(d, i)
-            end do
-         end do
-      end if
+      end do
    end subroutine move_verlet
 end module step
