@@ -360,15 +360,23 @@ def write_csv(ser: Series, rows: list[StepResult]) -> Path:
     return path
 
 
+def _laboratory(ax) -> None:
+    """The axes of a damage curve and the laboratory's marks: Van Gent's (2003) ranges of
+    start of damage and failure, Van Buchem's (2009) one unit at Ns = 5."""
+    lab = armour.LAB_RANGES
+    ax.axvspan(*lab["start_of_damage"]["Ns"], color="tab:green", alpha=0.2, label="start of damage (Van Gent 2003)")
+    ax.axvspan(*lab["failure"]["Ns"], color="tab:red", alpha=0.2, label="failure (Van Gent 2003)")
+    ax.plot([5.0], [1.0], "k*", ms=10, label="Van Buchem (2009): one unit")
+    ax.set_xlabel("Ns = Hm0 / (Delta dn), incident at the toe")
+    ax.set_ylabel("Nod (units displaced > threshold dn)")
+
+
 def plot(ser: Series, rows: list[StepResult]) -> Path:
     fig, ax = plt.subplots(figsize=(6.0, 4.2))
     ns = [r.Ns for r in rows]
     nod = [r.displaced for r in rows]
     ax.plot(ns, nod, "o-", label=f"{ser.name} (cumulative)")
-    lab = armour.LAB_RANGES
-    ax.axvspan(*lab["start_of_damage"]["Ns"], color="tab:green", alpha=0.2, label="start of damage (Van Gent 2003)")
-    ax.axvspan(*lab["failure"]["Ns"], color="tab:red", alpha=0.2, label="failure (Van Gent 2003)")
-    ax.plot([5.0], [1.0], "k*", ms=10, label="Van Buchem (2009): one unit")
+    _laboratory(ax)
     # the double-layer cube formula for contrast, at the series' waves so far and mean period
     lay = armour.read_armour(ser.out / "run")
     delta = float(lay.meta["density"]) / float(lay.meta.get("rho_water", 1000.0)) - 1.0
@@ -378,8 +386,6 @@ def plot(ser: Series, rows: list[StepResult]) -> Path:
     n_total = ser.waves * len(rows)
     ax.plot(grid, armour.van_der_meer_cubes_nod(grid, n_total, s_om), "k--", lw=1,
             label=f"Van der Meer (1988), double layer, N = {n_total:g}")
-    ax.set_xlabel("Ns = Hm0 / (Delta dn), incident at the toe")
-    ax.set_ylabel("Nod (units displaced > threshold dn)")
     ax.set_ylim(bottom=-0.2, top=max(3.0, max(nod) + 1.0 if nod else 3.0))
     ax.legend(fontsize=8)
     return save_figure(fig, ser.out / "series.png")
@@ -412,16 +418,11 @@ def plot_overlay(sers: Sequence[Series], path: Path) -> Path:
     """Nod against Ns of several series on one figure (placements, seeds), with the
     laboratory's ranges: the spread between seeds is the answer's uncertainty."""
     fig, ax = plt.subplots(figsize=(6.0, 4.2))
-    lab = armour.LAB_RANGES
-    ax.axvspan(*lab["start_of_damage"]["Ns"], color="tab:green", alpha=0.2, label="start of damage (Van Gent 2003)")
-    ax.axvspan(*lab["failure"]["Ns"], color="tab:red", alpha=0.2, label="failure (Van Gent 2003)")
-    ax.plot([5.0], [1.0], "k*", ms=10, label="Van Buchem (2009): one unit")
+    _laboratory(ax)
     top = 3.0
     for (label, ns, nod), marker in zip(overlay_data(sers), itertools.cycle("osD^v<>ph")):
         ax.plot(ns, nod, marker + "-", label=label)
         top = max(top, float(np.max(nod)) + 1.0 if nod.size else top)
-    ax.set_xlabel("Ns = Hm0 / (Delta dn), incident at the toe")
-    ax.set_ylabel("Nod (units displaced > threshold dn)")
     ax.set_ylim(bottom=-0.2, top=top)
     ax.legend(fontsize=8)
     return save_figure(fig, path)

@@ -473,8 +473,15 @@ def test_absorbing_paddle_stops_at_its_stroke(tmp_path: Path, mbsph: Path) -> No
     assert proc.returncode == 1, describe(proc)
     msg = error_line(proc)
     assert "max_stroke/2 = " in msg and "absorbing paddle" in msg, msg
-    from test_cases import snapshots
-    assert len(snapshots(out)) >= 2, "a last snapshot is written before the stop"
+    import h5py
+    from conftest import snapshots
+    snaps = snapshots(out)
+    assert len(snaps) >= 2, "a last snapshot is written before the stop"
+    pad_x = []
+    for s in (snaps[0], snaps[-1]):
+        with h5py.File(s) as f:
+            pad_x.append(f["position"][:, 0][f["kind"][:] == 3].mean())
+    assert abs(pad_x[1] - pad_x[0]) > 1e-3, f"the paddle moved {abs(pad_x[1] - pad_x[0]):.2e} m before the stop"
 
 
 def test_absorbing_paddle_makes_the_same_wave(tmp_path: Path, mbsph: Path) -> None:
