@@ -304,9 +304,9 @@ contains
       if (.not. right .and. .not. (g%ncol == 1 .and. left)) call pair_rows(prm, g, p, w, w%seg(slot(g, g%ncol)))
    end subroutine forces_sweep
 
-   !> After the halo's sums have reached their owners: the first column of a
-   !> slab with a rank on its left, its matrices and stress, then its forces
-   !> (unless it is also the last column and waits for the halo's matrices).
+   !> After the halo's sums have reached their owners: the matrices and stress
+   !> of the first column of a slab with a rank on its left (its forces wait
+   !> for forces_sweep_last).
    subroutine forces_sweep_first(prm, g, p, w)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
@@ -317,12 +317,14 @@ contains
       call grid_neighbours(g, left, right)
       if (.not. left) return
       call pre_finish(prm, p, w, w%seg(slot(g, 1))%i0, w%seg(slot(g, 1))%i1)
-      if (.not. (g%ncol == 1 .and. right)) call pair_rows(prm, g, p, w, w%seg(slot(g, 1)))
    end subroutine forces_sweep_first
 
-   !> After the halo has its matrices: the forces of the last column of a slab
-   !> with a rank on its right; then gravity on the owned fluid. On several
-   !> ranks the halo's share of the rates still has to reach its owners.
+   !> After the halo has its matrices: the forces of the first column of a slab
+   !> with a rank on its left and of the last column of a slab with one on its
+   !> right (both here, so that between two exchanges each rank does its edge
+   !> columns' pairs at the same time as its neighbours); then gravity on the owned
+   !> fluid. On several ranks the halo's share of the rates still has to reach
+   !> its owners.
    subroutine forces_sweep_last(prm, g, p, w)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
@@ -332,6 +334,8 @@ contains
       integer :: i
       if (needs_list(prm)) then
          call grid_neighbours(g, left, right)
+         ! a single column with both neighbours is the last one too: once
+         if (left .and. .not. (g%ncol == 1 .and. right)) call pair_rows(prm, g, p, w, w%seg(slot(g, 1)))
          if (right) call pair_rows(prm, g, p, w, w%seg(slot(g, g%ncol)))
       end if
       if (w%shift_now) then

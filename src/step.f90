@@ -133,7 +133,7 @@ contains
       type(forces_work_t), intent(inout) :: w
       type(body_t), intent(inout) :: bodies(:)
       type(contact_t), intent(inout) :: ct
-      real(rp), allocatable :: sums(:), mine(:), all(:)
+      real(rp), allocatable :: sums(:)
       call timer_start(t_pairs)
       if (prm%boundary == bnd_mdbc) then
          ! the solids' densities (and slip velocities) from the water at their ghost points
@@ -148,6 +148,10 @@ contains
       end if
       call forces_prepare(prm, por, p, w)
       call forces_sweep(prm, g, p, w)
+      ! the contacts need positions only: here, before the first exchange, the
+      ! slab holding the armour does them while the others still sum water pairs
+      ! (after it, every rank would wait for that slab)
+      if (size(bodies) > 0) call contacts(prm, g, p, w, bodies, ct)
       if (prm%kgc == kgc_gradient .or. prm%visc == visc_laminar_sps) then
          ! the pass before the forces: the sums of the halo copies belong to
          ! the next rank's particles, and what they give is copied back; the
@@ -160,18 +164,6 @@ contains
       end if
       call forces_sweep_last(prm, g, p, w)
       call timer_stop(t_pairs)
-      if (size(bodies) > 0) then
-         call timer_start(t_bodies)
-         call contact_sweep(ct, prm, g, p, bodies, w%drho)
-         ! a contact split between ranks: its centre and pair count over all of them
-         if (contact_keys_shared(ct) .and. comm_size() > 1) then
-            call contact_keys_pack(ct, mine)
-            call comm_allgatherv(mine, all)
-            call contact_keys_unpack(ct, all)
-         end if
-         call contact_apply(ct, prm, p, bodies)
-         call timer_stop(t_bodies)
-      end if
       ! the pairs' share of the halo particles, to their owners
       call comm_halo_reverse(halo, w%acc, w%drho, p%n_own)
       if (w%shift_now) call comm_halo_reverse(halo, w%sh, p%n_own)
@@ -190,6 +182,34 @@ contains
       end if
       call timer_stop(t_bodies)
    end subroutine evaluate
+
+   !> The contacts of one evaluation: the sweep over the bodies' particle pairs,
+   !> the table of touching bodies shared by the ranks, the forces on the bodies.
+   subroutine contacts(prm, g, p, w, bodies, ct)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(inout) :: w
+      type(body_t), intent(inout) :: bodies(:)
+      type(contact_t), intent(inout) :: ct
+      real(rp), allocatable :: mine(:), all(:)
+      call timer_start(t_bodies)
+      ! the dynamic model's density rates join the pairs' where forces_sweep_last
+      ! will read them (with shifting, the packed rates)
+      if (w%shift_now) then
+         call contact_sweep(ct, prm, g, p, bodies, w%rt(ndim + 1, :))
+      else
+         call contact_sweep(ct, prm, g, p, bodies, w%drho)
+      end if
+      ! a contact split between ranks: its centre and pair count over all of them
+      if (contact_keys_shared(ct) .and. comm_size() > 1) then
+         call contact_keys_pack(ct, mine)
+         call comm_allgatherv(mine, all)
+         call contact_keys_unpack(ct, all)
+      end if
+      call contact_apply(ct, prm, p, bodies)
+      call timer_stop(t_bodies)
+   end subroutine contacts
 
    !> mDBC on several ranks: the ghost points whose kernel support crosses a
    !> slab edge (w%md%xe, from mdbc_update) are summed by every rank over the
