@@ -14,15 +14,16 @@
 !> lines here: its declaration in particles_t, its row in the table, its
 !> case in particles_field.
 module particles
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use kinds, only: rp
    use errors, only: alloc_check, fatal
-   use constants, only: ndim
+   use constants, only: ndim, kind_fluid
    implicit none
    private
    public :: grp_all, grp_verlet, grp_mdbc
    public :: particles_t, particles_alloc, particles_grow, particles_fit, particles_permute, particles_count_kind, &
              field_t, fields, nfield, particles_field, field_on, particles_copy, particles_pack, particles_unpack, &
-             particles_width, work_array
+             particles_width, work_array, particles_nan, particles_outside
 
    !> A work array of at least n values, kept between calls (grown, contents not kept).
    interface work_array
@@ -410,4 +411,35 @@ contains
       integer, intent(in) :: k
       c = count(p%kind(1:p%n_own) == k)
    end function particles_count_kind
+
+   !> How many NaNs the positions, velocities and densities of particles
+   !> 1..n hold (ieee_is_nan: a quiet test, no floating-point exception).
+   pure integer function particles_nan(n, x, v, rho) result(k)
+      integer, intent(in) :: n
+      real(rp), intent(in) :: x(ndim, n), v(ndim, n), rho(n)
+      integer :: i, d
+      k = 0
+      ! one count per field, so that the loop has no branch and vectorises
+      do i = 1, n
+         do d = 1, ndim
+            k = k + merge(1, 0, ieee_is_nan(x(d, i))) + merge(1, 0, ieee_is_nan(v(d, i)))
+         end do
+         k = k + merge(1, 0, ieee_is_nan(rho(i)))
+      end do
+   end function particles_nan
+
+   !> Zero when every fluid particle of 1..n is inside the box and the density
+   !> limits (else more: an upper bound of the removals, the pores' limits are looser).
+   pure integer function particles_outside(n, kind, x, rho, box, rho_min, rho_max) result(k)
+      integer, intent(in) :: n, kind(n)
+      real(rp), intent(in) :: x(ndim, n), rho(n), box(4), rho_min, rho_max
+      integer :: i
+      k = 0
+      ! one count per limit, so that the loop has no branch (a particle may count twice)
+      do i = 1, n
+         k = k + merge(1, 0, kind(i) == kind_fluid)*(merge(1, 0, x(1, i) < box(1)) + merge(1, 0, x(1, i) > box(2)) + &
+                                                     merge(1, 0, x(2, i) < box(3)) + merge(1, 0, x(2, i) > box(4)) + &
+                                                     merge(1, 0, rho(i) < rho_min) + merge(1, 0, rho(i) > rho_max))
+      end do
+   end function particles_outside
 end module particles

@@ -11,7 +11,7 @@ module solver
    use kinds, only: rp, i8, lk
    use constants, only: kind_fluid, kind_filter, kind_name
    use input_check, only: int_str, real_str
-   use particles, only: particles_t
+   use particles, only: particles_t, particles_nan, particles_outside
    use params, only: params_t, kgc_shepard
    use body_dynamics, only: body_t, bodies_energy
    use contact, only: contact_t, contact_memory_advance, contact_memory_get
@@ -301,8 +301,7 @@ contains
    !> are taken out, counted (over all ranks) and reported; too many stop the run.
    subroutine remove_particles(r)
       type(run_t), intent(inout) :: r
-      integer :: i, nd, nr, cnt(2)
-      real(rp) :: x, y, f(n_por)
+      integer :: nd, nr, cnt(2)
       logical(lk), allocatable :: grown(:)
       integer :: ist
       character(len=200) :: emsg
@@ -311,6 +310,41 @@ contains
          call alloc_check(ist, emsg, 'grown in remove_particles')
          call move_alloc(grown, r%drop)
       end if
+      ! most steps remove nothing: a count that vectorises first, the search
+      ! particle by particle only when it finds a candidate
+      if (particles_outside(r%p%n_own, r%p%kind, r%p%x, r%p%rho, r%rc%box, r%prm%rho_min, r%prm%rho_max) == 0) then
+         r%drop(1:r%p%n_own) = .false.
+         nd = 0
+         nr = 0
+      else
+         call mark_leaving(r, nd, nr)
+      end if
+      cnt = [nd, nr]
+      call comm_sum(cnt)
+      nd = cnt(1)
+      nr = cnt(2)
+      if (nd + nr == 0) return
+      r%n_global = r%n_global - nd - nr
+      r%st%lost_domain = r%st%lost_domain + nd
+      r%st%lost_density = r%st%lost_density + nr
+      call log_line('step '//int_str(r%st%istep)//', t = '//real_str(r%st%t)//' s: removed '//int_str(nd + nr)// &
+                    ' fluid particles (left the domain: '//int_str(nd)//', density outside ['// &
+                    real_str(r%prm%rho_min)//', '//real_str(r%prm%rho_max)//'] kg/m3: '//int_str(nr)//')')
+      if (r%st%lost_domain + r%st%lost_density > r%rc%max_lost_fraction*r%st%n_fluid0) then
+         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies, r%por)
+         call fatal('lost '//int_str(r%st%lost_domain + r%st%lost_density)//' of '//int_str(r%st%n_fluid0)// &
+                    ' fluid particles, more than max_lost_fraction = '//real_str(r%rc%max_lost_fraction)// &
+                    ' (&run); last state written to '//snap_name(r%out, r%st%isnap))
+      end if
+   end subroutine remove_particles
+
+   !> The fluid particles to take out (r%drop) and their counts: left the
+   !> domain (nd) or with a density outside the limits (nr).
+   subroutine mark_leaving(r, nd, nr)
+      type(run_t), intent(inout) :: r
+      integer, intent(out) :: nd, nr
+      integer :: i
+      real(rp) :: x, y, f(n_por)
       nd = 0
       nr = 0
       do i = 1, r%p%n_own
@@ -331,24 +365,7 @@ contains
             nr = nr + 1
          end if
       end do
-      cnt = [nd, nr]
-      call comm_sum(cnt)
-      nd = cnt(1)
-      nr = cnt(2)
-      if (nd + nr == 0) return
-      r%n_global = r%n_global - nd - nr
-      r%st%lost_domain = r%st%lost_domain + nd
-      r%st%lost_density = r%st%lost_density + nr
-      call log_line('step '//int_str(r%st%istep)//', t = '//real_str(r%st%t)//' s: removed '//int_str(nd + nr)// &
-                    ' fluid particles (left the domain: '//int_str(nd)//', density outside ['// &
-                    real_str(r%prm%rho_min)//', '//real_str(r%prm%rho_max)//'] kg/m3: '//int_str(nr)//')')
-      if (r%st%lost_domain + r%st%lost_density > r%rc%max_lost_fraction*r%st%n_fluid0) then
-         call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies, r%por)
-         call fatal('lost '//int_str(r%st%lost_domain + r%st%lost_density)//' of '//int_str(r%st%n_fluid0)// &
-                    ' fluid particles, more than max_lost_fraction = '//real_str(r%rc%max_lost_fraction)// &
-                    ' (&run); last state written to '//snap_name(r%out, r%st%isnap))
-      end if
-   end subroutine remove_particles
+   end subroutine mark_leaving
 
    !> Stop on a NaN or a collapsed time step, leaving a last snapshot. A NaN
    !> is reported by the lowest rank that holds one; the others wait for
@@ -361,19 +378,22 @@ contains
       character(len=:), allocatable :: what
       what = ''
       bad = 0
-      do i = 1, r%p%n_own
-         if (ieee_is_nan(r%p%x(1, i)) .or. ieee_is_nan(r%p%x(2, i))) then
-            what = 'position'
-         else if (ieee_is_nan(r%p%v(1, i)) .or. ieee_is_nan(r%p%v(2, i))) then
-            what = 'velocity'
-         else if (ieee_is_nan(r%p%rho(i))) then
-            what = 'density'
-         else
-            cycle
-         end if
-         bad = i
-         exit
-      end do
+      ! a count that vectorises; the particle and the field only when it finds one
+      if (particles_nan(r%p%n_own, r%p%x, r%p%v, r%p%rho) > 0) then
+         do i = 1, r%p%n_own
+            if (ieee_is_nan(r%p%x(1, i)) .or. ieee_is_nan(r%p%x(2, i))) then
+               what = 'position'
+            else if (ieee_is_nan(r%p%v(1, i)) .or. ieee_is_nan(r%p%v(2, i))) then
+               what = 'velocity'
+            else if (ieee_is_nan(r%p%rho(i))) then
+               what = 'density'
+            else
+               cycle
+            end if
+            bad = i
+            exit
+         end do
+      end if
       who = -huge(1.0_rp)
       if (bad > 0) who = -real(comm_rank(), rp)
       call comm_max(who)

@@ -253,14 +253,9 @@ contains
       real(rp), intent(out) :: dt_cfl
       integer, parameter :: n_maxima = 6
       real(rp) :: a2, m(n_maxima), amax2, cmax
-      integer :: i
       amax2 = 0.0_rp
       cmax = prm%c0
-      do i = 1, p%n_own
-         if (p%kind(i) /= kind_fluid) cycle
-         amax2 = max(amax2, sum(w%acc(:, i)**2))
-         cmax = max(cmax, w%cs(i))
-      end do
+      call fluid_maxima(p%n_own, p%kind, w%acc, w%cs, amax2, cmax)
       ! largest squared acceleration, sound speed and viscous speed; stiffest
       ! contact; fastest body
       m = [amax2, cmax, w%mumax, -huge(1.0_rp), -huge(1.0_rp), 0.0_rp]
@@ -280,6 +275,26 @@ contains
       dt_cfl = min(dt_cfl, -m(5))
       dt = min(dt_cfl, -m(4))
    end function stage_dt
+
+   !> The largest squared acceleration and sound speed of the fluid among
+   !> particles 1..n, from amax2 and cmax up. A wall particle counts as zero
+   !> (both start at zero or above), so that the loop has no branch and vectorises.
+   pure subroutine fluid_maxima(n, kind, acc, cs, amax2, cmax)
+      integer, intent(in) :: n, kind(n)
+      real(rp), intent(in) :: acc(ndim, n), cs(n)
+      real(rp), intent(inout) :: amax2, cmax
+      integer :: i
+      real(rp) :: f, a, c
+      a = amax2
+      c = cmax
+      do i = 1, n
+         f = merge(1.0_rp, 0.0_rp, kind(i) == kind_fluid)
+         a = max(a, f*sum(acc(:, i)**2))
+         c = max(c, f*cs(i))
+      end do
+      amax2 = a
+      cmax = c
+   end subroutine fluid_maxima
 
    subroutine save_state(ss, p)
       type(step_state_t), intent(inout) :: ss

@@ -211,3 +211,56 @@ def test_paraview_reads_the_series(run) -> None:
     assert seen["bounds"] == pytest.approx([lo[0], hi[0], lo[1], hi[1], 0.0, 0.0], rel=1e-12, abs=1e-15)
     # 1e-6: ParaView reports the range of the array it read from the same doubles
     assert seen["range"] == pytest.approx([last.pressure.min(), last.pressure.max()], rel=1e-6)
+
+
+# ------------------------------------------------------------ particles that leave the domain
+
+SPILL = """\
+&run
+  case_name = 'spill'
+  t_end = 0.3
+  dt_out = 0.3
+  out_dir = 'OUT'
+  max_lost_fraction = 1.0
+/
+&domain
+  xmin = -0.1, xmax = 0.5, ymin = -0.1, ymax = 0.5
+/
+&fluid
+  rho0 = 1000.0, gamma = 7.0
+/
+&numerics
+  dp = 0.02
+  kernel = 'wendland'
+  integrator = 'symplectic'
+  cfl = 0.2
+/
+&box role = 'fluid', xmin = 0.0, xmax = 0.1, ymin = 0.0, ymax = 0.2 /
+&box role = 'solid', xmin = -0.06, xmax = 0.46, ymin = -0.06, ymax = 0.0 /
+"""
+
+
+def test_particles_that_leave_the_domain_are_removed_and_counted(tmp_path: Path, mbsph: Path) -> None:
+    """Water spilling off a floor narrower than the domain falls through its lower edge.
+    Every fluid particle that leaves is taken out and counted: the fluid at the end plus
+    the removals that run.log reports one by one is the fluid at the start (in number and
+    in mass), the summary's total is their sum, and what remains is inside the domain."""
+    proc, out = run_case(SPILL, tmp_path, binary=mbsph)
+    assert_ok(proc)
+    snaps = snapshots(out)
+    first, last = read_datasets(snaps[0]), read_datasets(snaps[-1])
+    assert read_attrs(snaps[-1])["time"] == pytest.approx(0.3, abs=2e-3)
+    fluid0, fluid1 = first["kind"] == 1, last["kind"] == 1
+    log = (out / "run.log").read_text()
+    removals = [(int(a), int(b), int(c)) for a, b, c in re.findall(
+        r"removed (\d+) fluid particles \(left the domain: (\d+), density outside \[[^]]*\] kg/m3: (\d+)\)", log)]
+    removed = sum(a for a, _, _ in removals)
+    assert removed >= 10, f"the case should spill water out of the domain ({removed} removed)"
+    assert all(a == b + c for a, b, c in removals)
+    assert int(re.search(r"fluid particles lost: (\d+)", log).group(1)) == removed
+    assert fluid0.sum() - fluid1.sum() == removed
+    m = first["mass"][fluid0]
+    assert np.ptp(m) == 0.0, "the fluid particles of this case all have one mass"
+    assert last["mass"][fluid1].sum() == pytest.approx(m.sum() - removed * m[0], rel=1e-12)
+    x = last["position"][fluid1]
+    assert np.all((x[:, 0] >= -0.1) & (x[:, 0] <= 0.5) & (x[:, 1] >= -0.1) & (x[:, 1] <= 0.5))
