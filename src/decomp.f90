@@ -2,10 +2,11 @@
 !> edge(r) .. edge(r+1)-1 of the neighbour grid (cells of side 2h), so a
 !> slab is never narrower than the kernel support. A particle belongs to
 !> the rank whose slab holds its column (grid_column). The edges are chosen
-!> so that every rank owns about the same number of particles.
+!> so that every rank has about the same work (decomp_count's weights).
 module decomp
    use errors, only: alloc_check
    use kinds, only: rp
+   use constants, only: kind_fluid
    use grid, only: grid_column
    implicit none
    private
@@ -20,6 +21,9 @@ module decomp
       integer, allocatable :: edge(:)         !< edge(0:nr): first column of each rank, edge(nr) = ncol
       integer, allocatable :: owner(:)        !< owner(0:ncol-1): rank of each column
    end type decomp_t
+
+   !> a fluid particle's work in units of a wall or body particle's (decomp_count)
+   integer, parameter :: weight_fluid = 2
 
 contains
 
@@ -87,22 +91,27 @@ contains
       r = d%owner(grid_column(d%x0, d%cs, d%ncol, x))
    end function decomp_owner
 
-   !> The particles at abscissae x(1, 1:n) counted by cell column (0-based).
-   subroutine decomp_count(d, x, n, count)
+   !> The work of particles 1..n (abscissae x(1, :), kinds kind) by cell column
+   !> (0-based): weight_fluid for a fluid particle, 1 for any other. A fluid
+   !> particle takes part in every pair of its neighbourhood, a wall or body
+   !> particle only in those with water; on the breakwater (doc/parallel.md)
+   !> the two ranks wait least for each other with fluid counted twice.
+   subroutine decomp_count(d, x, kind, n, count)
       type(decomp_t), intent(in) :: d
       real(rp), intent(in) :: x(:, :)
+      integer, intent(in) :: kind(:)
       integer, intent(in) :: n
       integer, intent(out) :: count(0:)
       integer :: i, k
       count(0:d%ncol - 1) = 0
       do i = 1, n
          k = decomp_column(d, x(1, i))
-         count(k) = count(k) + 1
+         count(k) = count(k) + merge(weight_fluid, 1, kind(i) == kind_fluid)
       end do
    end subroutine decomp_count
 
-   !> New edges from the particle count of every column (summed over the
-   !> ranks): rank r starts at the first column where the running count
+   !> New edges from the work count of every column (decomp_count, summed over
+   !> the ranks): rank r starts at the first column where the running count
    !> reaches r/nranks of the total, each slab at least one column wide.
    !> moved: whether any edge moved.
    subroutine decomp_balance(d, count, moved)

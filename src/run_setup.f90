@@ -287,7 +287,7 @@ contains
          ! (a new run starts from slabs of equal width and balances at step 0)
          allocate (hist(0:r%g%ncx_all - 1), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'hist in decompose')
-         call decomp_count(r%dc, r%p%x, r%p%n, hist)
+         call decomp_count(r%dc, r%p%x, r%p%kind, r%p%n, hist)
          call decomp_balance(r%dc, hist, moved)
       end if
       ! the particles of this slab; restarting on as many ranks, this rank's

@@ -267,7 +267,7 @@ contains
       character(len=200) :: emsg
       allocate (hist(0:r%g%ncx_all - 1), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'hist in rebalance')
-      call decomp_count(r%dc, r%p%x, r%p%n_own, hist)
+      call decomp_count(r%dc, r%p%x, r%p%kind, r%p%n_own, hist)
       call comm_sum(hist)
       call decomp_balance(r%dc, hist, moved)
       if (.not. moved) return
