@@ -25,7 +25,8 @@ module bc_mdbc
    use grid, only: grid_t, grid_column, grid_neighbours
    use particles, only: particles_t
    use options, only: kernel_cubic
-   use errors, only: alloc_check
+   use errors, only: alloc_check, fatal
+   use input_check, only: int_str
    implicit none
    private
    public :: mdbc_work_t, mdbc_update, mdbc_sums, mdbc_finish, mdbc_rates, mdbc_solve, mdbc_nsum
@@ -198,8 +199,10 @@ contains
       case (slip_freeslip)
          nrm = p%gof(:, i)/norm2(p%gof(:, i))
          vb(:, i) = vg - 2.0_rp*dot_product(vg - vw, nrm)*nrm
+      case (slip_wall)
+         ! the pair loop reads the wall's own velocity
       case default
-         ! slip_wall: the pair loop reads the wall's own velocity
+         call fatal('ghost_finish: unknown slip treatment '//int_str(prm%slip)//' (internal error)')
       end select
    end subroutine ghost_finish
 

@@ -18,7 +18,7 @@ module grid
    use particles, only: particles_t, particles_permute
    implicit none
    private
-   public :: grid_t, grid_neighbours, grid_init, grid_columns, grid_sort, grid_cell, grid_column, grid_visit_pairs, &
+   public :: grid_t, grid_neighbours, grid_init, grid_columns, grid_sort, grid_cell, grid_column, &
              grid_first_column_end, &
              grid_add_halo, grid_ranges, grid_last_cell
 
@@ -222,34 +222,6 @@ contains
       end do
       g%cstart(g%ncell + 2) = p%n + 1
    end function grid_add_halo
-
-   !> Call visit(i, j, r2) once for every pair i /= j closer than sqrt(r2max),
-   !> by the half stencil every pair loop uses (grid_ranges).
-   subroutine grid_visit_pairs(g, x, r2max, visit)
-      type(grid_t), intent(in) :: g
-      real(rp), intent(in) :: x(:, :), r2max
-      interface
-         subroutine visit(i, j, r2)
-            import :: rp
-            implicit none
-            integer, intent(in) :: i, j
-            real(rp), intent(in) :: r2
-         end subroutine visit
-      end interface
-      integer :: c, i, j, r, jlo(2), jhi(2)
-      real(rp) :: r2
-      do c = 1, grid_last_cell(g)
-         do i = g%cstart(c), g%cstart(c + 1) - 1
-            call grid_ranges(g, c, i, jlo, jhi)
-            do r = 1, 2
-               do j = jlo(r), jhi(r)
-                  r2 = (x(1, i) - x(1, j))**2 + (x(2, i) - x(2, j))**2
-                  if (r2 < r2max) call visit(i, j, r2)
-               end do
-            end do
-         end do
-      end do
-   end subroutine grid_visit_pairs
 
    !> Whether the slab has a rank on its left and on its right (the grid's
    !> columns against the domain's).

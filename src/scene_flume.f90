@@ -528,7 +528,7 @@ contains
             dur = wm%duration
             if (dur <= 0.0_rp) dur = max(t_end - wm%t_start, 20.0_rp*wm%tp)
             dt = min(wm%tp/200.0_rp, 0.01_rp)
-            call jonswap_paddle_signal(wm%hs, wm%tp, wm%gamma, wm%depth, g, wm%paddle, wm%seed, dur, dt, ts, xs, eta, &
+            call jonswap_paddle_signal(wm%hs, wm%tp, wm%gamma, wm%depth, g, wm%paddle_id, wm%seed, dur, dt, ts, xs, eta, &
                                        nwaves, wm%f_lo, wm%f_hi)
             sig%t = ts
             sig%x = xs

@@ -7,7 +7,8 @@ module wave_spectrum
    use kinds, only: rp
    use constants, only: pi
    use errors, only: fatal, alloc_check
-   use input_check, only: lower, real_str
+   use input_check, only: real_str, int_str
+   use options, only: paddle_piston, paddle_flap
    use wave_theory, only: wave_number, piston_transfer, flap_transfer
    use wave_fftw, only: fft_c2r, fft_r2c
    implicit none
@@ -76,7 +77,7 @@ contains
    ! allow(too-many-arguments): the argument list is the API agreed with the solver integration
    subroutine jonswap_paddle_signal(hs, tp, gamma, depth, g, paddle, seed, duration, dt, t, x, eta, nwaves, f_lo, f_hi)
       real(rp), intent(in) :: hs, tp, gamma, depth, g
-      character(len=*), intent(in) :: paddle
+      integer, intent(in) :: paddle           !< paddle_piston or paddle_flap (options)
       integer, intent(in) :: seed
       real(rp), intent(in) :: duration, dt
       real(rp), allocatable, intent(out) :: t(:), x(:), eta(:)
@@ -132,14 +133,16 @@ contains
    !> input first; this guards other callers); piston = .true. for a piston.
    subroutine check_signal_args(hs, tp, gamma, depth, g, paddle, dt, flo, fhi, piston)
       real(rp), intent(in) :: hs, tp, gamma, depth, g, dt, flo, fhi
-      character(len=*), intent(in) :: paddle
+      integer, intent(in) :: paddle
       logical, intent(out) :: piston
-      piston = .true.
-      select case (lower(trim(paddle)))
-      case ('piston')
-      case ('flap'); piston = .false.
+      select case (paddle)
+      case (paddle_piston)
+         piston = .true.
+      case (paddle_flap)
+         piston = .false.
       case default
-         call fatal("jonswap_paddle_signal: paddle must be 'piston' or 'flap', not '"//trim(paddle)//"'")
+         piston = .true.
+         call fatal('jonswap_paddle_signal: paddle must be paddle_piston or paddle_flap, not '//int_str(paddle))
       end select
       if (.not. (hs > 0.0_rp .and. tp > 0.0_rp .and. gamma >= 1.0_rp .and. depth > 0.0_rp .and. g > 0.0_rp &
                  .and. dt > 0.0_rp .and. flo >= 0.0_rp .and. fhi > flo)) then

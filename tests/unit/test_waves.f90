@@ -12,7 +12,7 @@ program test_waves
                             rng_t, rng_seed, rng_uniform
    use wave_signal, only: signal_t, signal_eval, signal_read
    use wave_paddle, only: paddle_t, paddle_motion, paddle_target_eta, paddle_absorb_set, paddle_absorb_advance
-   use options, only: wave_regular
+   use options, only: wave_regular, paddle_piston, paddle_flap, paddle_names
    use testing, only: check, check_close, test_summary
    implicit none
    real(rp), parameter :: g = 9.81_rp
@@ -23,8 +23,8 @@ program test_waves
    call test_jonswap()
    call test_rng()
    call test_fft()
-   call test_synthesis('piston')
-   call test_synthesis('flap')
+   call test_synthesis(paddle_piston)
+   call test_synthesis(paddle_flap)
    call test_signal_eval()
    call test_signal_read()
    call test_paddle_end()
@@ -222,14 +222,14 @@ contains
    !> bitwise reproducible, seed-dependent, zero-mean stroke, and per bin the
    !> stroke spectrum is -i eta / (H/S) of the paddle's transfer function.
    subroutine test_synthesis(paddle)
-      character(len=*), intent(in) :: paddle
+      integer, intent(in) :: paddle
       real(rp), parameter :: hs = 0.1_rp, tp = 1.5_rp, gam = 3.3_rp, d = 0.5_rp, dur = 300.0_rp, dt = 0.02_rp
       real(rp), allocatable :: t(:), x(:), eta(:), t2(:), x2(:), eta2(:), f(:), s(:)
       complex(rp), allocatable :: ce(:), cx(:)
       real(rp) :: nw, nw2, var, df, tr, kd, err, m0, m2
       integer :: n, i, nup
       character(len=:), allocatable :: lbl
-      lbl = ' ('//paddle//')'
+      lbl = ' ('//trim(paddle_names(paddle))//')'
       call jonswap_paddle_signal(hs, tp, gam, d, g, paddle, 12345, dur, dt, t, x, eta, nw)
       n = size(t)
       call check(mod(n, 2) == 0 .and. size(x) == n .and. size(eta) == n, 'signal length even, arrays agree'//lbl)
@@ -258,7 +258,7 @@ contains
       err = 0.0_rp
       do i = 1, n/2 - 1
          kd = wave_number(2.0_rp*pi*i*df, d, g)*d
-         if (paddle == 'piston') then
+         if (paddle == paddle_piston) then
             tr = piston_transfer(kd)
          else
             tr = flap_transfer(kd)
