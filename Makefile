@@ -47,6 +47,7 @@ $(1)/obj/%.o: src/%.F90 | $(1)/obj $(1)/mod
 $(1)/obj/fluid_forces.o: $(GEN)
 $(1)/obj/kernel_correction.o: $(GEN)
 $(1)/obj/bc_mdbc.o: $(GEN)
+$(1)/obj/particles.o: $(GEN)
 $(1)/mbsph: $(addprefix $(1)/obj/,$(addsuffix .o,$(NAMES)))
 	$$(FC) $(2) -o $$@ $$^ $$(LIBS)
 $(1)/obj/testing.o: tests/unit/testing.f90 | $(1)/obj $(1)/mod
@@ -62,7 +63,7 @@ endef
 # code generated from a list (fypp, installed by make deps): the pair-loop variants
 FYPP := .venv/bin/fypp
 GEN  := build/gen/fluid_variants.inc build/gen/fluid_dispatch.inc build/gen/pre_pairs.inc build/gen/pre_decl.inc \
-        build/gen/mdbc_ghosts.inc
+        build/gen/mdbc_ghosts.inc build/gen/particle_decl.inc build/gen/particle_table.inc build/gen/particle_slots.inc
 build/gen/fluid_variants.inc: src/fluid_variants.fypp src/components.fypp src/fluid_pairs.inc src/fluid_pair_body.inc \
                               | build/gen $(FYPP)
 	$(FYPP) -DPART="'loops'" $< $@
@@ -74,6 +75,8 @@ build/gen/pre_decl.inc: src/pre_pairs.fypp src/components.fypp | build/gen $(FYP
 	$(FYPP) -DPART="'decl'" $< $@
 build/gen/mdbc_ghosts.inc: src/mdbc_ghosts.fypp src/components.fypp | build/gen $(FYPP)
 	$(FYPP) $< $@
+build/gen/particle_%.inc: src/particle_fields.fypp | build/gen $(FYPP)
+	$(FYPP) -DPART="'$*'" $< $@
 $(FYPP):
 	@bash tools/deps.sh
 build/gen:

@@ -30,9 +30,9 @@ module body_dynamics
       real(rp) :: omega(nrot) = 0.0_rp      !< angular velocity [rad/s]
       type(pose_t) :: pose_start            !< pose at t = 0, the frame of the particles' xb and nb
       ! prescribed motion: pose(t) = pose_start + rate t + amp sin(2 pi t / period + phase),
-      ! pose = (x, y, theta)
-      real(rp) :: rate(3) = 0.0_rp          !< constant rates u, v [m/s], omega [rad/s]
-      real(rp) :: amp(3) = 0.0_rp           !< amplitudes [m, m, rad]
+      ! the translation's ndim components first, then the rotation's nrot
+      real(rp) :: rate(ndof) = 0.0_rp       !< constant rates: velocity [m/s], angular velocity [rad/s]
+      real(rp) :: amp(ndof) = 0.0_rp        !< amplitudes [m], [rad]
       real(rp) :: period = 0.0_rp           !< [s]; 0: no oscillation
       real(rp) :: phase = 0.0_rp            !< [rad]
       real(rp) :: m_surf = 0.0_rp           !< body mass per surface particle [kg/m]

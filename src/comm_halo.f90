@@ -16,8 +16,9 @@
 !> through the typed wrappers of comm (the only module that uses MPI).
 module comm_halo
    use kinds, only: rp, lk
+   use constants, only: ndim
    use particles, only: particles_t, particles_grow, particles_pack, particles_unpack, particles_copy, particles_width, &
-                        ensure => work_array
+                        particles_fill_uncarried, ensure => work_array
    use decomp, only: decomp_t, decomp_owner
    use comm, only: comm_rank, comm_size, comm_sendrecv, comm_alltoall, comm_alltoallv, comm_no_rank
    use timers, only: timer_start, timer_stop, t_comm
@@ -176,13 +177,8 @@ contains
          i = p%n_own + m
          k = (m - 1)*nhalo
          call particles_unpack(p, i, .true., h%rbuf, k + 1)
-         ! the fields the halo does not carry: defined, never read
-         p%p(i) = 0.0_rp
-         if (p%history) then
-            p%vm1(:, i) = p%v(:, i)
-            p%rhom1(i) = p%rho(i)
-         end if
       end do
+      call particles_fill_uncarried(p, p%n_own + 1, p%n_own + h%n_recv)
       p%n = p%n_own + h%n_recv
       call timer_stop(t_comm)
    end subroutine comm_halo_build
@@ -192,21 +188,22 @@ contains
    subroutine comm_halo_refresh(h, p)
       type(halo_t), intent(inout) :: h
       type(particles_t), intent(inout) :: p
+      integer, parameter :: nv = 2*ndim + 1     ! position, velocity, density
       integer :: i, k
       if (comm_size() == 1) return
       call timer_start(t_comm)
-      call ensure(h%sbuf, max(h%n_send, 1)*5)
-      call ensure(h%rbuf, max(h%n_recv, 1)*5)
+      call ensure(h%sbuf, max(h%n_send, 1)*nv)
+      call ensure(h%rbuf, max(h%n_recv, 1)*nv)
       do i = 1, h%n_send
-         k = (i - 1)*5
-         h%sbuf(k + 1:k + 5) = [p%x(:, i), p%v(:, i), p%rho(i)]
+         k = (i - 1)*nv
+         h%sbuf(k + 1:k + nv) = [p%x(:, i), p%v(:, i), p%rho(i)]
       end do
-      call comm_sendrecv(h%sbuf, h%n_send*5, left(), h%rbuf, h%n_recv*5, right())
+      call comm_sendrecv(h%sbuf, h%n_send*nv, left(), h%rbuf, h%n_recv*nv, right())
       do i = 1, h%n_recv
-         k = (i - 1)*5
-         p%x(:, p%n_own + i) = h%rbuf(k + 1:k + 2)
-         p%v(:, p%n_own + i) = h%rbuf(k + 3:k + 4)
-         p%rho(p%n_own + i) = h%rbuf(k + 5)
+         k = (i - 1)*nv
+         p%x(:, p%n_own + i) = h%rbuf(k + 1:k + ndim)
+         p%v(:, p%n_own + i) = h%rbuf(k + ndim + 1:k + 2*ndim)
+         p%rho(p%n_own + i) = h%rbuf(k + nv)
       end do
       call timer_stop(t_comm)
    end subroutine comm_halo_refresh

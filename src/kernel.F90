@@ -2,7 +2,7 @@
 !> The formulas themselves are in kernel_formulas.inc, shared with the pair loops.
 module kernel
    use kinds, only: rp
-   use constants, only: pi
+   use constants, only: pi, ndim
    use options, only: kernel_wendland, kernel_cubic
    implicit none
    private
@@ -57,8 +57,8 @@ contains
    !> Gradient with respect to x_i of W(|x_i - x_j|), given d = x_i - x_j.
    pure function kernel_gradw(k, d, h) result(g)
       integer, intent(in) :: k
-      real(rp), intent(in) :: d(2), h
-      real(rp) :: g(2), r
+      real(rp), intent(in) :: d(ndim), h
+      real(rp) :: g(ndim), r
       r = norm2(d)
       g = 0.0_rp
       if (r > 0.0_rp) g = kernel_f(k, r, h)*d

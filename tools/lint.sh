@@ -56,6 +56,9 @@ if ((${#@} == 0)); then
     .venv/bin/fypp -DPART="'body'" src/pre_pairs.fypp "$expanded/gen/pre_pairs.inc"
     .venv/bin/fypp -DPART="'decl'" src/pre_pairs.fypp "$expanded/gen/pre_decl.inc"
     .venv/bin/fypp src/mdbc_ghosts.fypp "$expanded/gen/mdbc_ghosts.inc"
+    for part in decl table slots; do
+        .venv/bin/fypp -DPART="'$part'" src/particle_fields.fypp "$expanded/gen/particle_$part.inc"
+    done
     for f in src/*.F90; do
         if ! gfortran -E -cpp -P -Isrc -I"$expanded/gen" "$f" > "$expanded/$(basename "${f%.F90}").f90"; then
             echo "$f:1:1: CPP the preprocessor refused it"

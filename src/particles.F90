@@ -1,18 +1,18 @@
 !> The particle store: structure of arrays, vectors shaped (ndim, n).
 !>
-!> Every per-particle field is listed once, in the table `fields` below: its
-!> name in the checkpoint, its name in the snapshot (blank: not written
+!> Every per-particle field is one row of the list in src/particle_fields.fypp:
+!> its name in the checkpoint, its name in the snapshot (blank: not written
 !> there), its components, whether it is an integer field, whether the halo
 !> copies of a neighbouring rank carry it, which runs hold it (all, or only
 !> those of the Verlet integrator or of the modified dynamic boundary), and
-!> the field whose values the checkpoint holds in
-!> its place when it is off (so that the file keeps one layout; the mDBC
-!> fields are in the checkpoint of an mDBC run only). Allocation, growth, the sort's permutation, the move
-!> of a particle to another rank (comm_halo), the halo, the checkpoint and
-!> its checksum (io_checkpoint) and the snapshot (io_snapshot) all loop over
-!> that table (through particles_field), so that adding a field is three
-!> lines here: its declaration in particles_t, its row in the table, its
-!> case in particles_field.
+!> the field whose values the checkpoint holds in its place when it is off (so
+!> that the file keeps one layout; the mDBC fields are in the checkpoint of an
+!> mDBC run only). make writes from that list the components of particles_t,
+!> the table `fields` and the cases of field_slot. Allocation, growth, the
+!> sort's permutation, the move of a particle to another rank (comm_halo), the
+!> halo, the checkpoint and its checksum (io_checkpoint) and the snapshot
+!> (io_snapshot) all loop over that table (through particles_field), so that
+!> adding a field is adding its row to the list.
 module particles
    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use kinds, only: rp
@@ -23,7 +23,7 @@ module particles
    public :: grp_all, grp_verlet, grp_mdbc
    public :: particles_t, particles_alloc, particles_grow, particles_fit, particles_permute, particles_count_kind, &
              field_t, fields, nfield, particles_field, field_on, particles_copy, particles_pack, particles_unpack, &
-             particles_width, work_array, particles_nan, particles_outside
+             particles_width, work_array, particles_nan, particles_outside, particles_fill_uncarried
 
    !> A work array of at least n values, kept between calls (grown, contents not kept).
    interface work_array
@@ -36,22 +36,9 @@ module particles
       integer :: n_id = 0                    !< largest id handed out
       logical :: history = .true.            !< the Verlet integrator's fields (vm1, rhom1) are held
       logical :: mdbc = .false.              !< the modified dynamic boundary's fields (gof, gob) are held
-      real(rp), allocatable :: x(:, :)       !< position [m]
-      real(rp), allocatable :: v(:, :)       !< velocity [m/s]
-      real(rp), allocatable :: rho(:)        !< density [kg/m3]
-      real(rp), allocatable :: p(:)          !< pressure [Pa]
-      real(rp), allocatable :: mass(:)       !< mass [kg/m]
-      real(rp), allocatable :: nrm(:, :)     !< outward unit normal of boundary particles
-      real(rp), allocatable :: xb(:, :)      !< reference position (walls) or body-frame position (bodies) [m]
-      real(rp), allocatable :: nb(:, :)      !< body-frame outward normal of a body particle
-      real(rp), allocatable :: vm1(:, :)     !< Verlet: velocity one step back
-      real(rp), allocatable :: rhom1(:)      !< Verlet: density one step back
-      real(rp), allocatable :: gof(:, :)     !< mDBC: from a solid particle to its ghost point (0: none) [m]
-      real(rp), allocatable :: gob(:, :)     !< mDBC: gof in the reference (walls) or body frame (bodies) [m]
-      integer, allocatable :: surf(:)        !< 0 inside a solid, 1 on a flat face, 2 at a corner or curve
-      integer, allocatable :: kind(:)        !< kind_fluid, kind_fixed, kind_moving, kind_floating
-      integer, allocatable :: body(:)        !< object (body) number, 0 for fluid
-      integer, allocatable :: id(:)          !< global id, from 1
+      ! the fields of src/particle_fields.fypp
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "particle_decl.inc"
    end type particles_t
 
    !> One per-particle field of the store.
@@ -67,25 +54,10 @@ module particles
 
    !> which runs hold a field
    integer, parameter :: grp_all = 0, grp_verlet = 1, grp_mdbc = 2
-   integer, parameter :: nfield = 16
-   !> The fields, reals first; the order is that of the checkpoint's checksum.
-   type(field_t), parameter :: fields(nfield) = [ &
-                               field_t('x', 'position', ndim, .false., .true., grp_all, 0), &
-                               field_t('v', 'velocity', ndim, .false., .true., grp_all, 0), &
-                               field_t('rho', 'density', 1, .false., .true., grp_all, 0), &
-                               field_t('p', 'pressure', 1, .false., .false., grp_all, 0), &
-                               field_t('mass', 'mass', 1, .false., .true., grp_all, 0), &
-                               field_t('nrm', '', ndim, .false., .true., grp_all, 0), &
-                               field_t('xb', '', ndim, .false., .true., grp_all, 0), &
-                               field_t('nb', '', ndim, .false., .true., grp_all, 0), &
-                               field_t('vm1', '', ndim, .false., .false., grp_verlet, 2), &
-                               field_t('rhom1', '', 1, .false., .false., grp_verlet, 3), &
-                               field_t('gof', 'ghost', ndim, .false., .true., grp_mdbc, 0), &
-                               field_t('gob', '', ndim, .false., .true., grp_mdbc, 0), &
-                               field_t('surf', '', 1, .true., .true., grp_all, 0), &
-                               field_t('kind', 'kind', 1, .true., .true., grp_all, 0), &
-                               field_t('body', 'body', 1, .true., .true., grp_all, 0), &
-                               field_t('id', 'id', 1, .true., .true., grp_all, 0)]
+   !> The fields (src/particle_fields.fypp), reals first; the order is that of the
+   !> checkpoint's checksum.
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "particle_table.inc"
 
    integer, parameter :: act_none = 0, act_alloc = 1, act_grow = 2
 
@@ -117,22 +89,8 @@ contains
       r => null()
       iv => null()
       select case (k)
-      case (1); call real2(p%x, a, m, kp); r => p%x
-      case (2); call real2(p%v, a, m, kp); r => p%v
-      case (3); call real1(p%rho, a, m, kp); r(1:1, 1:size(p%rho)) => p%rho
-      case (4); call real1(p%p, a, m, kp); r(1:1, 1:size(p%p)) => p%p
-      case (5); call real1(p%mass, a, m, kp); r(1:1, 1:size(p%mass)) => p%mass
-      case (6); call real2(p%nrm, a, m, kp); r => p%nrm
-      case (7); call real2(p%xb, a, m, kp); r => p%xb
-      case (8); call real2(p%nb, a, m, kp); r => p%nb
-      case (9); call real2(p%vm1, a, m, kp); r => p%vm1
-      case (10); call real1(p%rhom1, a, m, kp); r(1:1, 1:size(p%rhom1)) => p%rhom1
-      case (11); call real2(p%gof, a, m, kp); r => p%gof
-      case (12); call real2(p%gob, a, m, kp); r => p%gob
-      case (13); call int1(p%surf, a, m, kp); iv => p%surf
-      case (14); call int1(p%kind, a, m, kp); iv => p%kind
-      case (15); call int1(p%body, a, m, kp); iv => p%body
-      case (16); call int1(p%id, a, m, kp); iv => p%id
+! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "particle_slots.inc"
       case default
          call fatal('particles_field: no such field (internal error)')
       end select
@@ -149,6 +107,30 @@ contains
       case default; field_on = .true.
       end select
    end function field_on
+
+   !> Particles i0..i1 (halo copies): each field the halo does not carry takes
+   !> its stand-in's values (the Verlet history those of now) or zero: defined,
+   !> never read.
+   subroutine particles_fill_uncarried(p, i0, i1)
+      type(particles_t), target, intent(inout) :: p
+      integer, intent(in) :: i0, i1
+      real(rp), pointer :: r(:, :), rs(:, :)
+      integer, pointer :: iv(:), ivs(:)
+      integer :: k
+      if (i1 < i0) return
+      do k = 1, nfield
+         if (fields(k)%halo .or. .not. field_on(p, k)) cycle
+         call particles_field(p, k, r, iv)
+         if (fields(k)%standin > 0) then
+            call particles_field(p, fields(k)%standin, rs, ivs)
+            if (associated(r)) r(:, i0:i1) = rs(:, i0:i1)
+            if (associated(iv)) iv(i0:i1) = ivs(i0:i1)
+         else
+            if (associated(r)) r(:, i0:i1) = 0.0_rp
+            if (associated(iv)) iv(i0:i1) = 0
+         end if
+      end do
+   end subroutine particles_fill_uncarried
 
    !> Values per particle of the fields that are on (halo_only: those the halo carries).
    pure integer function particles_width(p, halo_only) result(w)
