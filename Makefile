@@ -55,6 +55,8 @@ $(1)/obj/testing.o: tests/unit/testing.f90 | $(1)/obj $(1)/mod
 $(1)/tests/%: tests/unit/%.f90 $(1)/obj/testing.o $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) | $(1)/tests
 	$$(FC) $(2) -I$(1)/mod -J$(1)/tests -o $$@ $$< $(1)/obj/testing.o \
 	  $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) $$(LIBS)
+$(1)/jonswap_signal: tools/jonswap_signal.f90 $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) | $(1)/tests
+	$$(FC) $(2) -I$(1)/mod -J$(1)/tests -o $$@ $$< $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) $$(LIBS)
 $(1)/deps.mk: $(SRC) tools/fdeps.sh | $(1)/obj
 	tools/fdeps.sh $(1)/obj $(SRC) > $$@
 $(1)/obj $(1)/mod $(1)/tests:
@@ -89,7 +91,8 @@ $(eval $(call variant,build/debug,$(WARN) $(OPT_debug)))
 deps:
 	@bash tools/deps.sh
 
-unit: build/mbsph $(addprefix build/tests/,$(UNIT))
+# the tools written against the solver's modules are built with the unit tests, so that they keep compiling
+unit: build/mbsph build/jonswap_signal $(addprefix build/tests/,$(UNIT))
 	@fail=0; for t in $(UNIT); do build/tests/$$t || fail=1; done; exit $$fail
 unit-debug: build/debug/mbsph $(addprefix build/debug/tests/,$(UNIT))
 	@fail=0; for t in $(UNIT); do build/debug/tests/$$t || fail=1; done; exit $$fail

@@ -287,6 +287,8 @@ contains
       real(rp) :: f, a, c
       a = amax2
       c = cmax
+      ! (a wall's rates enter times 0; a non-finite one comes from a pair whose
+      ! fluid partner has it too, and that stops the run either way)
       do i = 1, n
          f = merge(1.0_rp, 0.0_rp, kind(i) == kind_fluid)
          a = max(a, f*sum(acc(:, i)**2))

@@ -2,15 +2,14 @@
 !> (wave = 'irregular'), synthesised by the solver's own jonswap_paddle_signal with
 !> the sampling the solver uses (dt = min(tp/200, 0.01 s)); for comparing a run's
 !> gauges with the wave it was asked for (tools/jonswap_target.py, doc/waves.md).
-!> Build from a built tree (make build/mbsph):
-!>   mpif90 -Ibuild/mod tools/jonswap_signal.f90 $(ls build/obj/*.o | grep -v mbsph.o) \
-!>     -L/usr/lib/x86_64-linux-gnu/hdf5/openmpi -lhdf5_fortran -lhdf5 -lfftw3 -o build/jonswap_signal
+!> Build: make build/jonswap_signal (make unit builds it too).
 !> Usage: build/jonswap_signal HS TP GAMMA DEPTH SEED DURATION [PADDLE [G]] > signal.csv
 !> (DURATION: the wavemaker's duration, or t_end - t_start, at least 20 TP, as the solver takes it).
 program jonswap_signal
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use kinds, only: rp
    use wave_spectrum, only: jonswap_paddle_signal
+   use options, only: option_index, paddle_names
    implicit none
    real(rp), allocatable :: t(:), x(:), eta(:)
    real(rp) :: hs, tp, gamma, depth, duration, g, nwaves
@@ -31,7 +30,9 @@ program jonswap_signal
    if (command_argument_count() >= 7) call get_command_argument(7, paddle)
    g = 9.81_rp
    if (command_argument_count() >= 8) g = real_arg(8)
-   call jonswap_paddle_signal(hs, tp, gamma, depth, g, trim(paddle), seed, duration, min(tp/200.0_rp, 0.01_rp), &
+   ! the paddle's name to its value as the solver's input does (an unknown name: an error naming the allowed ones)
+   call jonswap_paddle_signal(hs, tp, gamma, depth, g, option_index('command line', 'argument 7', 'PADDLE', paddle, &
+                                                                    paddle_names), seed, duration, min(tp/200.0_rp, 0.01_rp), &
                               t, x, eta, nwaves)
    write (output_unit, '(a)') 'time,x,eta'
    do j = 1, size(t)

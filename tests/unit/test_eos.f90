@@ -27,9 +27,13 @@ program test_eos
    prm%c0 = 10.0_rp*sqrt(9.81_rp*0.3_rp)
    prm%b = prm%c0**2*prm%rho0/prm%gamma
    prm%y_surface = 0.3_rp
-   ! a column from 0.1 m above the surface to 0.4 m below the bed's level
+   ! a column from 0.1 m above the surface to 0.4 m below the bed's level, and one
+   ! particle 3 m above it (a splash: the density of the law is held at 0.5 there)
    do i = 1, m
       x(:, i) = [0.0_rp, 0.4_rp - 0.7_rp*real(i - 1, rp)/real(m - 1, rp)]
+   end do
+   x(2, 1) = prm%y_surface + 3.0_rp
+   do i = 1, m
       rho(i) = eos_density_at_depth(prm, prm%y_surface - x(2, i))
    end do
    call eos_update(prm, m, rho, p, cs)
@@ -37,6 +41,14 @@ program test_eos
       d = prm%y_surface - x(2, i)
       if (d > 0.0_rp) call check_close(p(i), prm%rho0*prm%g*d, 1.0e-12_rp, 'Tait pressure of the hydrostatic density', 1.0e-9_rp)
    end do
+   ! against the law written with pow here, the clamp at 0.5 included (the top particle)
+   call check(1.0_rp + prm%rho0*prm%g*(prm%y_surface - x(2, 1))/prm%b < 0.5_rp, 'the top particle is in the clamp')
+   worst = 0.0_rp
+   do i = 1, m
+      d = prm%y_surface - x(2, i)
+      worst = max(worst, abs(rho(i) - prm%rho0*max(1.0_rp + prm%rho0*prm%g*d/prm%b, 0.5_rp)**(1.0_rp/7.0_rp))/rho(i))
+   end do
+   call check(worst <= 2.0_rp*epsilon(1.0_rp), 'hydrostatic density within two units of the last place of the law with pow')
    call eos_dynamic_density(prm, m, rho, x, rhod)
    ! zero to rounding: the vectorised loop may contract its products differently
    call check(maxval(abs(rhod)) <= 4.0_rp*epsilon(1.0_rp)*maxval(rho), 'dynamic density of water at rest is zero (Newton root)')

@@ -1,5 +1,5 @@
-!> The particle checks of every step: particles_nan finds a NaN or an
-!> infinity in any position, velocity or density component, and particles_outside
+!> The particle checks of every step: particles_nan counts the NaNs in the
+!> positions, velocities and densities (an infinity is not one), and particles_outside
 !> finds a fluid particle beyond any side of the box or density limit (a wall
 !> particle never); both are zero on a sound set.
 program test_particles
