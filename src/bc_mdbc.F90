@@ -24,7 +24,7 @@ module bc_mdbc
    use params, only: params_t, slip_wall, slip_noslip, slip_freeslip
    use grid, only: grid_t, grid_column, grid_neighbours
    use particles, only: particles_t
-   use options, only: kernel_cubic
+   use options, only: kernel_cubic, kernel_wendland
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
    implicit none
@@ -124,6 +124,9 @@ contains
       real(rp), intent(in) :: vol(:)
       real(rp), intent(in) :: xg(:, :)
       real(rp), intent(out) :: s(:, :)
+      if (prm%kernel /= kernel_cubic .and. prm%kernel /= kernel_wendland) then
+         call fatal('mdbc_sums: unknown kernel '//int_str(prm%kernel)//' (internal error)')
+      end if
       if (prm%slip /= slip_wall) then
          if (prm%kernel == kernel_cubic) then
             call ghosts_cubic_v(prm, g, p, vol, xg, s)

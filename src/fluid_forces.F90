@@ -17,7 +17,7 @@ module fluid_forces
    use particles, only: particles_t
    use eos, only: eos_update, eos_dynamic_density
    use nbr_list, only: nbr_t, nbr_build
-   use kernel, only: kernel_cubic
+   use kernel, only: kernel_cubic, kernel_wendland
    use kernel_correction, only: kgc_sums, kgc_finish
    use porous, only: porous_t, porous_field, n_por
    use bc_mdbc, only: mdbc_work_t
@@ -116,7 +116,14 @@ contains
       list = merge(1, 0, needs_list(prm))
       bc = merge(2, 1, prm%boundary == bnd_repulsive)
       kern = 0                      ! a listed loop reads its kernel factors from the list
-      if (list == 0) kern = merge(2, 1, prm%kernel == kernel_cubic)
+      if (list == 0) then
+         select case (prm%kernel)
+         case (kernel_wendland); kern = 1
+         case (kernel_cubic); kern = 2
+         case default
+            call fatal('forces_init: unknown kernel '//int_str(prm%kernel)//' (internal error)')
+         end select
+      end if
       visc = merge(2, 1, prm%visc == visc_laminar_sps)
       diff = merge(1, 0, prm%diffusion /= diff_none)
       kgc = merge(1, 0, prm%kgc == kgc_gradient)

@@ -1,6 +1,7 @@
 !> SPH kernels in 2D: Wendland C2 and cubic spline, with support 2h.
 !> The formulas themselves are in kernel_formulas.inc, shared with the pair loops.
 module kernel
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use kinds, only: rp
    use constants, only: pi, ndim
    use options, only: kernel_wendland, kernel_cubic
@@ -17,11 +18,15 @@ contains
    pure real(rp) function kernel_norm(k, h) result(aw)
       integer, intent(in) :: k
       real(rp), intent(in) :: h
-      if (k == kernel_cubic) then
+      ! (an unknown kernel, which no input can give, makes NaN: pure procedures cannot stop)
+      select case (k)
+      case (kernel_cubic)
          aw = 10.0_rp/(7.0_rp*pi*h*h)
-      else
+      case (kernel_wendland)
          aw = 7.0_rp/(4.0_rp*pi*h*h)
-      end if
+      case default
+         aw = ieee_value(aw, ieee_quiet_nan)
+      end select
    end function kernel_norm
 
    !> W(r) for r >= 0.
@@ -32,11 +37,14 @@ contains
       q = r/h
       w = 0.0_rp
       if (q >= 2.0_rp) return
-      if (k == kernel_cubic) then
+      select case (k)
+      case (kernel_cubic)
          w = kernel_norm(k, h)*KW_CUBIC(q)
-      else
+      case (kernel_wendland)
          w = kernel_norm(k, h)*KW_WENDLAND(q)
-      end if
+      case default
+         w = ieee_value(w, ieee_quiet_nan)
+      end select
    end function kernel_w
 
    !> F(r) with grad_i W = F (x_i - x_j); r > 0.
@@ -47,11 +55,14 @@ contains
       q = r/h
       f = 0.0_rp
       if (q >= 2.0_rp) return
-      if (k == kernel_cubic) then
+      select case (k)
+      case (kernel_cubic)
          f = kernel_norm(k, h)/(h*h)*KF_CUBIC(q)
-      else
+      case (kernel_wendland)
          f = kernel_norm(k, h)/(h*h)*KF_WENDLAND(q)
-      end if
+      case default
+         f = ieee_value(f, ieee_quiet_nan)
+      end select
    end function kernel_f
 
    !> Gradient with respect to x_i of W(|x_i - x_j|), given d = x_i - x_j.

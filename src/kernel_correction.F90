@@ -5,7 +5,9 @@ module kernel_correction
    use kinds, only: rp
    use constants, only: kind_fluid, ndim
    use params, only: params_t
-   use kernel, only: kernel_cubic
+   use kernel, only: kernel_cubic, kernel_wendland
+   use errors, only: fatal
+   use input_check, only: int_str
    use grid, only: grid_t, grid_ranges, grid_last_cell
    use particles, only: particles_t
    use nbr_list, only: nbr_t
@@ -83,11 +85,14 @@ contains
       msum(p%n_own + 1:p%n) = 0.0_rp
       wsum(p%n_own + 1:p%n) = 0.0_rp
       ! one copy of the sweep per kernel: no kernel test inside the pair loop
-      if (prm%kernel == kernel_cubic) then
+      select case (prm%kernel)
+      case (kernel_cubic)
          call shepard_pairs_cubic(prm, g, p, wsum, msum)
-      else
+      case (kernel_wendland)
          call shepard_pairs_wendland(prm, g, p, wsum, msum)
-      end if
+      case default
+         call fatal('shepard_sums: unknown kernel '//int_str(prm%kernel)//' (internal error)')
+      end select
    end subroutine shepard_sums
 
 #define SHEPARD_NAME shepard_pairs_cubic

@@ -15,9 +15,10 @@
 module nbr_list
    use kinds, only: rp
    use constants, only: ndim
-   use errors, only: alloc_check
+   use errors, only: alloc_check, fatal
+   use input_check, only: int_str
    use grid, only: grid_t, grid_ranges, grid_last_cell
-   use kernel, only: kernel_cubic
+   use kernel, only: kernel_cubic, kernel_wendland
    implicit none
    private
    public :: nbr_t, nbr_build
@@ -107,17 +108,20 @@ contains
       ! the kernel factor of every pair, from its squared distance: one loop
       ! per kernel, without branches, that the compiler vectorises
       hinv = 1.0_rp/h
-      if (k == kernel_cubic) then
+      select case (k)
+      case (kernel_cubic)
          do m = 1, nb%np
             q = sqrt(nb%f(m))*hinv
             nb%f(m) = fw*KF_CUBIC(q)
          end do
-      else
+      case (kernel_wendland)
          do m = 1, nb%np
             q = sqrt(nb%f(m))*hinv
             nb%f(m) = fw*KF_WENDLAND(q)
          end do
-      end if
+      case default
+         call fatal('nbr_build: unknown kernel '//int_str(k)//' (internal error)')
+      end select
    end subroutine nbr_build
 
    !> Room for at least need pairs, keeping the first ones.
