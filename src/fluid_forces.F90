@@ -30,39 +30,6 @@ module fluid_forces
    integer, parameter :: n_rep = 7
 
    !> Per-particle work arrays of a force evaluation (not kept across steps).
-   type :: forces_work_t
-      real(rp), allocatable :: acc(:, :)   !< acceleration [m/s2]
-      real(rp), allocatable :: drho(:)     !< density rate [kg/m3/s]
-      real(rp), allocatable :: cs(:)       !< sound speed [m/s]
-      real(rp), allocatable :: irho(:)     !< 1/density [m3/kg]
-      real(rp), allocatable :: vol(:)      !< volume mass/density [m3]
-      real(rp), allocatable :: rhod(:)     !< density used by the diffusion term
-      real(rp), allocatable :: lm(:, :)    !< gradient correction matrices
-      real(rp), allocatable :: tau(:, :)   !< SPS stress / rho^2
-      real(rp), allocatable :: gv(:, :)    !< SPS velocity gradients du/dx, du/dy, dv/dx, dv/dy [1/s]
-      real(rp), allocatable :: por(:, :)   !< porosity, resistance rates, added mass (porous_field)
-      ! porous runs: what the pair loop reads for each particle, a wall or body
-      ! particle among the pores standing for pore water of the porosity there
-      real(rp), allocatable :: nf(:)       !< porosity where the particle is (por's first row, contiguous for the pair loop) [-]
-      real(rp), allocatable :: mp(:)       !< mass (of a wall or body particle: n m) [kg]
-      real(rp), allocatable :: rp(:)       !< superficial density (of a wall or body particle: n rho) [kg/m3]
-      !> mDBC with a slip condition: the velocities the pair loop reads, the
-      !> water's own and the solids' as the condition makes them (bc_mdbc) [m/s]
-      real(rp), allocatable :: vb(:, :)
-      !> particle shifting: the concentration gradient (rows 1 .. ndim) and
-      !> the divergence of position (row ndim + 1) of each particle (shifting)
-      real(rp), allocatable :: sh(:, :)
-      !> the evaluation with shifting's sums adds to one array: acceleration
-      !> (rows 1 .. ndim), density rate (ndim + 1) and sh (ndim + 2 ..)
-      real(rp), allocatable :: rt(:, :)
-      type(mdbc_work_t) :: md              !< mDBC: the ghost points of the evaluation (bc_mdbc)
-      !> this evaluation sums shifting's terms (the step sets it: the sums of the
-      !> step's last evaluation are those it shifts by)
-      logical :: shift_now = .false.
-      real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]
-      type(nbr_t) :: seg(4)                !< pair lists of the columns in the sweep (forces_sweep)
-   end type forces_work_t
-
    abstract interface
       subroutine pairs_iface(n, g, nb, x, v, rho, irho, p, mass, kind, cs, rhod, lm, tau, nrm, surf, nf, &
                              h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep, acc, drho, mumax)
@@ -96,8 +63,43 @@ module fluid_forces
       end subroutine pairs_x_iface
    end interface
 
-   procedure(pairs_iface), pointer :: pairs => null()
-   procedure(pairs_x_iface), pointer :: pairs_x => null()   !< with particle shifting's sums
+   type :: forces_work_t
+      real(rp), allocatable :: acc(:, :)   !< acceleration [m/s2]
+      real(rp), allocatable :: drho(:)     !< density rate [kg/m3/s]
+      real(rp), allocatable :: cs(:)       !< sound speed [m/s]
+      real(rp), allocatable :: irho(:)     !< 1/density [m3/kg]
+      real(rp), allocatable :: vol(:)      !< volume mass/density [m3]
+      real(rp), allocatable :: rhod(:)     !< density used by the diffusion term
+      real(rp), allocatable :: lm(:, :)    !< gradient correction matrices
+      real(rp), allocatable :: tau(:, :)   !< SPS stress / rho^2
+      real(rp), allocatable :: gv(:, :)    !< SPS velocity gradients du/dx, du/dy, dv/dx, dv/dy [1/s]
+      real(rp), allocatable :: por(:, :)   !< porosity, resistance rates, added mass (porous_field)
+      ! porous runs: what the pair loop reads for each particle, a wall or body
+      ! particle among the pores standing for pore water of the porosity there
+      real(rp), allocatable :: nf(:)       !< porosity where the particle is (por's first row, contiguous for the pair loop) [-]
+      real(rp), allocatable :: mp(:)       !< mass (of a wall or body particle: n m) [kg]
+      real(rp), allocatable :: rp(:)       !< superficial density (of a wall or body particle: n rho) [kg/m3]
+      !> mDBC with a slip condition: the velocities the pair loop reads, the
+      !> water's own and the solids' as the condition makes them (bc_mdbc) [m/s]
+      real(rp), allocatable :: vb(:, :)
+      !> particle shifting: the concentration gradient (rows 1 .. ndim) and
+      !> the divergence of position (row ndim + 1) of each particle (shifting)
+      real(rp), allocatable :: sh(:, :)
+      !> the evaluation with shifting's sums adds to one array: acceleration
+      !> (rows 1 .. ndim), density rate (ndim + 1) and sh (ndim + 2 ..)
+      real(rp), allocatable :: rt(:, :)
+      type(mdbc_work_t) :: md              !< mDBC: the ghost points of the evaluation (bc_mdbc)
+      !> this evaluation sums shifting's terms (the step sets it: the sums of the
+      !> step's last evaluation are those it shifts by)
+      logical :: shift_now = .false.
+      real(rp) :: mumax = 0.0_rp           !< max |h v.r / (r^2 + eta^2)| over pairs [m/s]
+      type(nbr_t) :: seg(4)                !< pair lists of the columns in the sweep (forces_sweep)
+      !> the pair loop of this run's models (forces_init), and the same with shifting's sums
+      procedure(pairs_iface), pointer, nopass :: pairs => null()
+      procedure(pairs_x_iface), pointer, nopass :: pairs_x => null()
+   end type forces_work_t
+
+
 
 contains
 
@@ -108,7 +110,8 @@ contains
    !> over the pairs before the forces (gradient correction, SPS) gets the
    !> loops over the evaluation's pair list, which both passes share; the
    !> others a loop over the grid's stencil, which needs no list in memory.
-   subroutine forces_init(prm)
+   subroutine forces_init(w, prm)
+      type(forces_work_t), intent(inout) :: w
       type(params_t), intent(in) :: prm
       integer :: list, bc, kern, visc, diff, kgc, por, shift, key
       ! the repulsive boundary runs without density diffusion and gradient
@@ -133,12 +136,13 @@ contains
       key = list*10000000 + bc*1000000 + kern*100000 + visc*10000 + diff*1000 + kgc*100 + por*10
       ! with shifting, the loop with its sums for the evaluations whose sums the
       ! step uses (forces_work_t%shift_now) and the one without for the others
-      if (shift == 1) call choose(key + 1)
-      call choose(key)
+      if (shift == 1) call choose(w, key + 1)
+      call choose(w, key)
    end subroutine forces_init
 
-   !> pairs (pairs_x, with shifting's sums) => the variant of src/fluid_variants.fypp with this key.
-   subroutine choose(key)
+   !> w%pairs (w%pairs_x, with shifting's sums) => the variant of src/fluid_variants.fypp with this key.
+   subroutine choose(w, key)
+      type(forces_work_t), intent(inout) :: w
       integer, intent(in) :: key
       select case (key)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
@@ -427,11 +431,11 @@ contains
       subroutine run(v, rho, mass)
          real(rp), contiguous, intent(in) :: v(:, :), rho(:), mass(:)
          if (w%shift_now) then
-            call pairs_x(p%n, g, nb, p%x, v, rho, w%irho, p%p, mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+            call w%pairs_x(p%n, g, nb, p%x, v, rho, w%irho, p%p, mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
                          p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, &
                          prm%delta_coef, prm%kgc_cont, rep, w%rt, w%mumax)
          else
-            call pairs(p%n, g, nb, p%x, v, rho, w%irho, p%p, mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
+            call w%pairs(p%n, g, nb, p%x, v, rho, w%irho, p%p, mass, p%kind, w%cs, w%rhod, w%lm, w%tau, &
                        p%nrm, p%surf, w%nf, prm%h, prm%support2, prm%eta2, prm%fw, prm%alpha, 4.0_rp*prm%nu, &
                        prm%delta_coef, prm%kgc_cont, rep, w%acc, w%drho, w%mumax)
          end if

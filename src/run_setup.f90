@@ -116,7 +116,7 @@ contains
       call comm_barrier()
       r%case_text = file_text(r%out//'/case.nml')
       call decompose(r, counts, edges)
-      call forces_init(r%prm)
+      call forces_init(r%w, r%prm)
       if (size(r%bodies) > 0) then
          call contact_init(scene_contact(c), r%prm, r%ct)
          if (c%run%restart) call contact_memory_set(r%ct, nint(mem(1:2, :)), mem(3:4, :))

@@ -105,12 +105,12 @@ program test_grid
       prm%visc = visc_artificial; prm%alpha = 0.0_rp
       prm%diffusion = diff_none; prm%kgc = kgc_none; prm%integrator = integ_symplectic
       prm%shift = shift_none
-      call forces_init(prm)
+      call forces_init(w, prm)
       call forces_prepare(prm, por, p, w)
       call forces_sweep(prm, g, p, w)
       call forces_sweep_last(prm, g, p, w)
       prm%shift = shift_fickian
-      call forces_init(prm)
+      call forces_init(ws, prm)
       ws%shift_now = .true.             ! the step sets it for the evaluation it shifts by
       call forces_prepare(prm, por, p, ws)
       call forces_sweep(prm, g, p, ws)
