@@ -78,6 +78,32 @@ def mbsph_debug() -> Path:
     return _binary_or_skip(DEBUG, "build/debug/mbsph")
 
 
+# A small water column on the floor of a domain 0.6 m wide, one step (the bad-input
+# tests edit it; the removal test lets it spill off the floor's ends).
+COLUMN_ON_FLOOR = """\
+&run
+  case_name = 'bad_input'
+  t_end = 0.01
+  dt_out = 0.01
+  out_dir = 'OUT'
+  max_steps = 1
+/
+&domain
+  xmin = -0.1, xmax = 0.5, ymin = -0.1, ymax = 0.5
+/
+&fluid
+  rho0 = 1000.0, gamma = 7.0
+/
+&numerics
+  dp = 0.02
+  kernel = 'wendland'
+  integrator = 'symplectic'
+  cfl = 0.2
+/
+&box role = 'fluid', xmin = 0.0, xmax = 0.1, ymin = 0.0, ymax = 0.2 /
+&box role = 'solid', xmin = -0.06, xmax = 0.46, ymin = -0.06, ymax = 0.0 /
+"""
+
 _OUT_DIR_RE = re.compile(r"""\bout_dir\s*=\s*(['"])(.*?)\1""", re.IGNORECASE)
 
 

@@ -19,37 +19,15 @@ from pathlib import Path
 
 import pytest
 
-from conftest import EXIT_INPUT, assert_ok, describe, run_case
+from conftest import COLUMN_ON_FLOOR, EXIT_INPUT, assert_ok, describe, run_case
 
 pytestmark = pytest.mark.usefixtures("mbsph")
 
 CASE = "case.nml"
 
-# A valid case: a small water column on the floor of a domain 0.6 m wide. One step
-# is enough to show that it runs.
-BASE = """\
-&run
-  case_name = 'bad_input'
-  t_end = 0.01
-  dt_out = 0.01
-  out_dir = 'OUT'
-  max_steps = 1
-/
-&domain
-  xmin = -0.1, xmax = 0.5, ymin = -0.1, ymax = 0.5
-/
-&fluid
-  rho0 = 1000.0, gamma = 7.0
-/
-&numerics
-  dp = 0.02
-  kernel = 'wendland'
-  integrator = 'symplectic'
-  cfl = 0.2
-/
-&box role = 'fluid', xmin = 0.0, xmax = 0.1, ymin = 0.0, ymax = 0.2 /
-&box role = 'solid', xmin = -0.06, xmax = 0.46, ymin = -0.06, ymax = 0.0 /
-"""
+# A valid case (conftest.COLUMN_ON_FLOOR): a small water column on the floor of a domain
+# 0.6 m wide. One step is enough to show that it runs.
+BASE = COLUMN_ON_FLOOR
 
 
 def edit(old: str, new: str, text: str = BASE) -> str:

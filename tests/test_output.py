@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from conftest import (
+    COLUMN_ON_FLOOR,
     ROOT,
     SNAPSHOT_DATASETS,
     assert_ok,
@@ -215,29 +216,10 @@ def test_paraview_reads_the_series(run) -> None:
 
 # ------------------------------------------------------------ particles that leave the domain
 
-SPILL = """\
-&run
-  case_name = 'spill'
-  t_end = 0.3
-  dt_out = 0.3
-  out_dir = 'OUT'
-  max_lost_fraction = 1.0
-/
-&domain
-  xmin = -0.1, xmax = 0.5, ymin = -0.1, ymax = 0.5
-/
-&fluid
-  rho0 = 1000.0, gamma = 7.0
-/
-&numerics
-  dp = 0.02
-  kernel = 'wendland'
-  integrator = 'symplectic'
-  cfl = 0.2
-/
-&box role = 'fluid', xmin = 0.0, xmax = 0.1, ymin = 0.0, ymax = 0.2 /
-&box role = 'solid', xmin = -0.06, xmax = 0.46, ymin = -0.06, ymax = 0.0 /
-"""
+# the column of conftest spills off its floor, which ends 0.04 m inside the domain
+SPILL = (COLUMN_ON_FLOOR.replace("case_name = 'bad_input'", "case_name = 'spill'")
+         .replace("t_end = 0.01\n  dt_out = 0.01", "t_end = 0.3\n  dt_out = 0.3")
+         .replace("max_steps = 1\n", "max_lost_fraction = 1.0\n"))
 
 
 def test_particles_that_leave_the_domain_are_removed_and_counted(tmp_path: Path, mbsph: Path) -> None:
