@@ -48,6 +48,8 @@ $(1)/obj/fluid_forces.o: $(GEN)
 $(1)/obj/kernel_correction.o: $(GEN)
 $(1)/obj/bc_mdbc.o: $(GEN)
 $(1)/obj/particles.o: $(GEN)
+$(1)/obj/nbr_list.o: $(GEN)
+$(1)/obj/contact.o: $(GEN)
 $(1)/mbsph: $(addprefix $(1)/obj/,$(addsuffix .o,$(NAMES)))
 	$$(FC) $(2) -o $$@ $$^ $$(LIBS)
 $(1)/obj/testing.o: tests/unit/testing.f90 | $(1)/obj $(1)/mod
@@ -65,8 +67,9 @@ endef
 # code generated from a list (fypp, installed by make deps): the pair-loop variants
 FYPP := .venv/bin/fypp
 GEN  := build/gen/fluid_variants.inc build/gen/fluid_dispatch.inc build/gen/pre_pairs.inc build/gen/pre_decl.inc \
-        build/gen/mdbc_ghosts.inc build/gen/particle_decl.inc build/gen/particle_table.inc build/gen/particle_slots.inc
-build/gen/fluid_variants.inc: src/fluid_variants.fypp src/components.fypp src/fluid_pairs.inc src/fluid_pair_body.inc \
+        build/gen/mdbc_ghosts.inc build/gen/nbr_pairs.inc build/gen/shepard_pairs.inc build/gen/contact_pairs.inc \
+        build/gen/particle_decl.inc build/gen/particle_table.inc build/gen/particle_slots.inc
+build/gen/fluid_variants.inc: src/fluid_variants.fypp src/components.fypp src/fluid_pairs.inc src/fluid_pair_body.inc src/stencil.fypp \
                               | build/gen $(FYPP)
 	$(FYPP) -DPART="'loops'" $< $@
 build/gen/fluid_dispatch.inc: src/fluid_variants.fypp src/components.fypp | build/gen $(FYPP)
@@ -76,6 +79,10 @@ build/gen/pre_pairs.inc: src/pre_pairs.fypp src/components.fypp | build/gen $(FY
 build/gen/pre_decl.inc: src/pre_pairs.fypp src/components.fypp | build/gen $(FYPP)
 	$(FYPP) -DPART="'decl'" $< $@
 build/gen/mdbc_ghosts.inc: src/mdbc_ghosts.fypp src/components.fypp | build/gen $(FYPP)
+	$(FYPP) $< $@
+# the passes over the one traversal of pairs, src/stencil.fypp
+build/gen/nbr_pairs.inc build/gen/shepard_pairs.inc build/gen/contact_pairs.inc: build/gen/%.inc: src/%.fypp \
+                                                                                src/stencil.fypp | build/gen $(FYPP)
 	$(FYPP) $< $@
 build/gen/particle_%.inc: src/particle_fields.fypp | build/gen $(FYPP)
 	$(FYPP) -DPART="'$*'" $< $@

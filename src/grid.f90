@@ -20,7 +20,7 @@ module grid
    private
    public :: grid_t, grid_neighbours, grid_init, grid_columns, grid_sort, grid_cell, grid_column, &
              grid_first_column_end, &
-             grid_add_halo, grid_ranges, grid_last_cell
+             grid_add_halo, grid_ranges, grid_last_cell, grid_point_ranges, grid_line_ranges
 
    type :: grid_t
       real(rp) :: x0, y0          !< lower-left corner of the domain [m]
@@ -124,6 +124,50 @@ contains
       jlo(2) = g%cstart(c + g%stride - g%reach)
       jhi(2) = g%cstart(c + g%stride + g%reach + 1) - 1
    end subroutine grid_ranges
+
+   !> The particles of this rank's slab around the point x (not the halo):
+   !> three index ranges, one for each of the point's cell column and its two
+   !> neighbours, each the 2 reach + 1 cells around the point's row, so every
+   !> particle within 2h of x is in one of them. A column outside the slab
+   !> gives an empty range (jlo > jhi). The passes around a point (the mDBC
+   !> ghost points) take their candidates here.
+   pure subroutine grid_point_ranges(g, x, jlo, jhi)
+      type(grid_t), intent(in) :: g
+      real(rp), intent(in) :: x(:)
+      integer, intent(out) :: jlo(3), jhi(3)
+      integer :: kx, ix, iy, r, c0
+      kx = grid_column(g%x0, g%cs, g%ncx_all, x(1)) - g%col0 + 1
+      iy = min(max(int((x(2) - g%y0)*g%icsy) + 1, 1), g%ncy)
+      do r = 1, 3
+         ix = kx + r - 2
+         jlo(r) = 1
+         jhi(r) = 0
+         if (ix < 1 .or. ix > g%ncol) cycle
+         c0 = iy + ix*g%ny
+         jlo(r) = g%cstart(c0)
+         jhi(r) = g%cstart(c0 + 2*g%reach + 1) - 1
+      end do
+   end subroutine grid_point_ranges
+
+   !> The particles of this rank's slab within one cell column of the
+   !> vertical line at abscissa x: the three whole columns around it, one
+   !> index range each, empty where a column is not the slab's (the gauges
+   !> of the water level).
+   pure subroutine grid_line_ranges(g, x, jlo, jhi)
+      type(grid_t), intent(in) :: g
+      real(rp), intent(in) :: x
+      integer, intent(out) :: jlo(3), jhi(3)
+      integer :: kx, ix, r
+      kx = grid_column(g%x0, g%cs, g%ncx_all, x) - g%col0 + 1
+      do r = 1, 3
+         ix = kx + r - 2
+         jlo(r) = 1
+         jhi(r) = 0
+         if (ix < 1 .or. ix > g%ncol) cycle
+         jlo(r) = g%cstart(ix*g%ny + g%reach + 1)
+         jhi(r) = g%cstart(ix*g%ny + g%reach + g%ncy + 1) - 1
+      end do
+   end subroutine grid_line_ranges
 
    !> The last cell whose particles start stencils: the cells after it (the last
    !> column, the halo or an empty ghost column) only end them.

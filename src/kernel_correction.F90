@@ -95,13 +95,7 @@ contains
       end select
    end subroutine shepard_sums
 
-#define SHEPARD_NAME shepard_pairs_cubic
-#define KFAC(q) KW_CUBIC(q)
-! allow(bad-quote-string): cpp needs a double-quoted file name in #include
-#include "shepard_pairs.inc"
-
-#define SHEPARD_NAME shepard_pairs_wendland
-#define KFAC(q) KW_WENDLAND(q)
+! the sweeps over the pairs, one per kernel (src/shepard_pairs.fypp)
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "shepard_pairs.inc"
 

@@ -49,7 +49,7 @@ contains
       integer, intent(in) :: n, k
       real(rp), intent(in) :: h, support2, fw
       integer, intent(in), optional :: col
-      integer :: c, i, j, r, m, jlo(2), jhi(2), need, c_lo, c_hi, rows
+      integer :: c, i, j, r, m, jlo(2), jhi(2), need, c_lo, c_hi, nrows
       real(rp) :: xi(ndim), dr(ndim), r2, q, hinv
       integer :: ist
       character(len=200) :: emsg
@@ -64,46 +64,27 @@ contains
          nb%i0 = 1
          nb%i1 = n
       end if
-      rows = nb%i1 - nb%i0 + 1
+      nrows = nb%i1 - nb%i0 + 1
       if (allocated(nb%first)) then
-         if (size(nb%first) < rows + 1) deallocate (nb%first)
+         if (size(nb%first) < nrows + 1) deallocate (nb%first)
       end if
       if (.not. allocated(nb%first)) then
-         allocate (nb%first(max(rows + 1, 64)), stat=ist, errmsg=emsg)
+         allocate (nb%first(max(nrows + 1, 64)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'nb%first in nbr_build')
       end if
       ! a first guess of the size (13 pairs a particle at h = sqrt(2) dp, 16 at
       ! 1.6 dp): grown by a quarter when short, so that it stays close to the need
       if (.not. allocated(nb%j)) then
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-         allocate (nb%j(max(8*rows, 1024)), nb%f(max(8*rows, 1024)), stat=ist, errmsg=emsg)
-         call alloc_check(ist, emsg, 'the pair list', max(8*rows, 1024))
+         allocate (nb%j(max(8*nrows, 1024)), nb%f(max(8*nrows, 1024)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'the pair list', max(8*nrows, 1024))
       end if
       nb%n = n
       m = 0
-      do c = c_lo, c_hi
-         do i = g%cstart(c), g%cstart(c + 1) - 1
-            nb%first(i - nb%i0 + 1) = m + 1
-            call grid_ranges(g, c, i, jlo, jhi)
-            need = m + max(jhi(1) - jlo(1) + 1, 0) + max(jhi(2) - jlo(2) + 1, 0)
-            if (need > size(nb%j)) call grow(nb, need)
-            xi = x(:, i)
-            do r = 1, 2
-               do j = jlo(r), jhi(r)
-                  dr = xi - x(:, j)
-                  r2 = dot_product(dr, dr)
-                  ! kept without a branch: the slot is written always and taken
-                  ! when the pair is within the support (a branch here would be
-                  ! mispredicted for about a third of the candidates)
-                  nb%j(m + 1) = j
-                  nb%f(m + 1) = r2
-                  m = m + merge(1, 0, r2 < support2)
-               end do
-            end do
-         end do
-      end do
+      ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "nbr_pairs.inc"
       ! particles of the last column (the halo or an empty ghost column) start no pairs
-      nb%first(g%cstart(c_hi + 1) - nb%i0 + 1:rows + 1) = m + 1
+      nb%first(g%cstart(c_hi + 1) - nb%i0 + 1:nrows + 1) = m + 1
       nb%np = m
       ! the kernel factor of every pair, from its squared distance: one loop
       ! per kernel, without branches, that the compiler vectorises

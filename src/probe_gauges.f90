@@ -11,7 +11,7 @@ module probe_gauges
    use porous, only: porous_t, porous_point, n_por
    use io_files, only: csv_rows_until, csv_flush
    use params, only: params_t
-   use grid, only: grid_t, grid_column, grid_cell
+   use grid, only: grid_t, grid_line_ranges
    use particles, only: particles_t
    use kernel, only: kernel_w
    use errors, only: fatal, alloc_check
@@ -182,36 +182,32 @@ contains
       type(particles_t), intent(in) :: p
       type(porous_t), intent(in) :: por
       integer, intent(out) :: n
-      integer :: kx, jx, iy, c, j, cap
+      integer :: r, j, cap, jlo(3), jhi(3)
       real(rp) :: dx, rho, f(n_por)
       cap = 0
       if (allocated(gt%cy)) cap = size(gt%cy)
       n = 0
-      kx = grid_column(g%x0, g%cs, g%ncx_all, x)
-      columns: do jx = kx - 1, kx + 1
-         if (grid_cell(g, jx, 1) == 0) cycle columns     ! not this rank's column
-         do iy = 1, g%ncy
-            c = grid_cell(g, jx, iy)
-            in_cell: do j = g%cstart(c), min(g%cstart(c + 1) - 1, p%n_own)
-               if (p%kind(j) /= kind_fluid) cycle in_cell
-               dx = x - p%x(1, j)
-               if (abs(dx) >= 2.0_rp*prm%h) cycle in_cell
-               if (n == cap) call grow(gt, cap)
-               n = n + 1
-               gt%cy(n) = p%x(2, j)
-               gt%cdx(n) = dx
-               ! the volume m / rho of the superficial density: the kernel sum is 1 in
-               ! the pores too; the pressure that of the pore water, rho / n
-               gt%cv(n) = p%mass(j)/p%rho(j)
-               rho = p%rho(j)
-               if (por%on) then
-                  f = porous_point(por, p%x(:, j))
-                  rho = rho/f(1)
-               end if
-               gt%cp(n) = prm%b*((rho/prm%rho0)**prm%gamma - 1.0_rp)
-            end do in_cell
-         end do
-      end do columns
+      call grid_line_ranges(g, x, jlo, jhi)
+      do r = 1, 3
+         in_cell: do j = jlo(r), min(jhi(r), p%n_own)
+            if (p%kind(j) /= kind_fluid) cycle in_cell
+            dx = x - p%x(1, j)
+            if (abs(dx) >= 2.0_rp*prm%h) cycle in_cell
+            if (n == cap) call grow(gt, cap)
+            n = n + 1
+            gt%cy(n) = p%x(2, j)
+            gt%cdx(n) = dx
+            ! the volume m / rho of the superficial density: the kernel sum is 1 in
+            ! the pores too; the pressure that of the pore water, rho / n
+            gt%cv(n) = p%mass(j)/p%rho(j)
+            rho = p%rho(j)
+            if (por%on) then
+               f = porous_point(por, p%x(:, j))
+               rho = rho/f(1)
+            end if
+            gt%cp(n) = prm%b*((rho/prm%rho0)**prm%gamma - 1.0_rp)
+         end do in_cell
+      end do
    end subroutine candidates
 
    !> Kernel sums of the candidates on heights ybot + (m-1) dy, m = 1..size(s).

@@ -55,7 +55,9 @@ if ((${#@} == 0)); then
     .venv/bin/fypp -DPART="'dispatch'" src/fluid_variants.fypp "$expanded/gen/fluid_dispatch.inc"
     .venv/bin/fypp -DPART="'body'" src/pre_pairs.fypp "$expanded/gen/pre_pairs.inc"
     .venv/bin/fypp -DPART="'decl'" src/pre_pairs.fypp "$expanded/gen/pre_decl.inc"
-    .venv/bin/fypp src/mdbc_ghosts.fypp "$expanded/gen/mdbc_ghosts.inc"
+    for f in mdbc_ghosts nbr_pairs shepard_pairs contact_pairs; do
+        .venv/bin/fypp "src/$f.fypp" "$expanded/gen/$f.inc"
+    done
     for part in decl table slots; do
         .venv/bin/fypp -DPART="'$part'" src/particle_fields.fypp "$expanded/gen/particle_$part.inc"
     done

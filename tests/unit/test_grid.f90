@@ -18,7 +18,7 @@ program test_grid
    use kinds, only: rp, lk
    use constants, only: kind_fluid, kind_fixed
    use particles, only: particles_alloc
-   use grid, only: grid_t, grid_init, grid_sort
+   use grid, only: grid_t, grid_init, grid_sort, grid_point_ranges, grid_line_ranges
    use params, only: params_t, visc_artificial, diff_none, kgc_none, integ_symplectic, shift_none, shift_fickian
    use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw, kernel_f
    use nbr_list, only: nbr_t, nbr_build
@@ -35,7 +35,8 @@ program test_grid
    logical(lk), allocatable :: drop(:)
    real(rp) :: h, r(2), d(2), gw(2), dr, a(2), err_d, err_a, scale_d, scale_a, pij, err_f
    real(rp) :: gc(2), divr, err_c, err_r, scale_c, scale_r
-   integer :: i, j, k, nbad, nmiss, ndup, kk
+   integer :: i, j, k, nbad, nmiss, ndup, kk, m, jlo(3), jhi(3), nq
+   integer, allocatable :: hits(:)
    integer, parameter :: kernels(2) = [kernel_wendland, kernel_cubic]
 
    h = 0.02_rp
@@ -91,6 +92,47 @@ program test_grid
       call check(err_f < 1.0e-13_rp, 'pair list: kernel factor F(r) of every pair to 1e-13 of F(0)')
       call check(count(seen > 0) > 10*n, 'the set has many pairs (test is not vacuous)')
    end do
+
+   ! the passes around a point (mDBC ghost points) and a vertical line (water-level
+   ! gauges): the ranges hold every particle within 2h, none twice, and none beyond the store
+   allocate (hits(n))
+   nmiss = 0
+   ndup = 0
+   nq = 0
+   do m = 1, 300
+      call random_number(r)
+      select case (mod(m, 3))
+      case (0)
+         r = [1.0_rp, 0.6_rp]*r                          ! anywhere
+      case (1)
+         r = [0.04_rp*mod(m, 26), 0.04_rp*mod(m, 16)]    ! on cell edges, and on the domain's
+      case default
+         r = [1.1_rp*r(1) - 0.05_rp, 0.6_rp*r(2)]        ! near and past the sides
+      end select
+      hits = 0
+      call grid_point_ranges(g, r, jlo, jhi)
+      do k = 1, 3
+         if (jlo(k) <= jhi(k)) hits(jlo(k):jhi(k)) = hits(jlo(k):jhi(k)) + 1
+      end do
+      ndup = ndup + count(hits > 1)
+      do i = 1, n
+         if (norm2(p%x(:, i) - r) < 2.0_rp*h) then
+            nq = nq + 1
+            if (hits(i) == 0) nmiss = nmiss + 1
+         end if
+      end do
+      hits = 0
+      call grid_line_ranges(g, r(1), jlo, jhi)
+      do k = 1, 3
+         if (jlo(k) <= jhi(k)) hits(jlo(k):jhi(k)) = hits(jlo(k):jhi(k)) + 1
+      end do
+      ndup = ndup + count(hits > 1)
+      do i = 1, n
+         if (abs(p%x(1, i) - r(1)) < 2.0_rp*h .and. hits(i) == 0) nmiss = nmiss + 1
+      end do
+   end do
+   call check(nmiss == 0 .and. ndup == 0, 'point and line ranges: every particle within 2h, each once')
+   call check(nq > 1000, 'the points have many neighbours (test is not vacuous)')
 
    ! the production pair loop: continuity and pressure sums against brute force; with
    ! particle shifting its sums (the concentration gradient, the divergence of

@@ -14,7 +14,7 @@ module contact
    use kinds, only: rp
    use constants, only: kind_fluid, kind_floating, ndim
    use params, only: params_t
-   use grid, only: grid_t, grid_ranges
+   use grid, only: grid_t, grid_ranges, grid_last_cell
    use particles, only: particles_t
    use body_dynamics, only: body_t, body_of, bodies_damping_reset
    use rigid, only: rigid_point_velocity
@@ -93,23 +93,8 @@ contains
       ct%nk = 0
       ct%nc = 0
       call find_candidates(ct, prm, p, bodies)
-      do i = 1, p%n_own
-         if (.not. ct%cand(i)) cycle
-         c = g%cell(i)
-         call grid_ranges(g, c, i, jlo, jhi)
-         bi = body_of(bodies, p%body(i))
-         do r = 1, 2
-            partners: do j = jlo(r), jhi(r)
-               if (.not. ct%cand(j)) cycle partners
-               if (p%body(j) == p%body(i)) cycle partners
-               if (p%kind(i) /= kind_floating .and. p%kind(j) /= kind_floating) cycle partners
-               d = p%x(:, i) - p%x(:, j)
-               r2 = dot_product(d, d)
-               if (r2 >= prm%support2) cycle partners
-               call store_candidate(ct, i, j, bi, body_of(bodies, p%body(j)))
-            end do partners
-         end do
-      end do
+      ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
+#include "contact_pairs.inc"
       select case (ct%model)
       case (model_dynamic)
          call dbc_pairs(ct, prm, p, bodies, drho)
