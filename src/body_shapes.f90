@@ -9,7 +9,7 @@ module body_shapes
    use options, only: shape_circle, shape_box, shape_wedge, shape_polygon
    implicit none
    private
-   public :: body_outline, body_mass_properties, body_particles, circle_sides
+   public :: body_outline, body_mass_properties, body_particles
 
    integer, parameter :: circle_sides = 64   !< polygon drawn for a circle outline
 

@@ -12,7 +12,7 @@ module contact
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
    use kinds, only: rp
-   use constants, only: kind_fluid, kind_floating, ndim
+   use constants, only: kind_fluid, kind_floating, ndim, nsym
    use params, only: params_t
    use grid, only: grid_t, grid_ranges, grid_last_cell
    use particles, only: particles_t
@@ -30,8 +30,9 @@ module contact
              contact_keys_unpack, &
              contact_apply, contact_memory_advance, contact_memory_get, contact_memory_set
 
-   !> numbers per contact in a packed table: two ids, kx(2), kw, kt(3), kv(2)
-   integer, parameter :: nv = 10
+   !> numbers per contact in a packed table: two ids, kx(ndim), kw, kt(nsym), kv(ndim),
+   !> starting after the offsets below
+   integer, parameter :: o_kx = 2, o_kw = o_kx + ndim, o_kt = o_kw + 1, o_kv = o_kt + nsym, nv = o_kv + ndim
 
 contains
 
@@ -149,10 +150,10 @@ contains
       do m = 1, size(all)/nv
          o = nv*(m - 1)
          k = key_index(ct, nint(all(o + 1)), nint(all(o + 2)))
-         ct%kx(:, k) = ct%kx(:, k) + all(o + 3:o + 4)
-         ct%kw(k) = ct%kw(k) + all(o + 5)
-         ct%kt(:, k) = ct%kt(:, k) + all(o + 6:o + 8)
-         ct%kv(:, k) = ct%kv(:, k) + all(o + 9:o + 10)
+         ct%kx(:, k) = ct%kx(:, k) + all(o + o_kx + 1:o + o_kx + ndim)
+         ct%kw(k) = ct%kw(k) + all(o + o_kw + 1)
+         ct%kt(:, k) = ct%kt(:, k) + all(o + o_kt + 1:o + o_kt + nsym)
+         ct%kv(:, k) = ct%kv(:, k) + all(o + o_kv + 1:o + o_kv + ndim)
       end do
    end subroutine contact_keys_unpack
 
@@ -196,19 +197,19 @@ contains
       integer :: k, n
       integer, allocatable :: ids(:, :)
       real(rp), allocatable :: xis(:, :)
-      real(rp) :: xc(2), nn(2), vrel(2), xi(2), s
+      real(rp) :: xc(ndim), nn(ndim), vrel(ndim), xi(ndim), s
       integer :: ist
       character(len=200) :: emsg
       if (ct%xi_max <= 0.0_rp .or. ct%model == model_dynamic .or. ct%model == model_hertz) return
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (ids(2, ct%nk), xis(2, ct%nk), stat=ist, errmsg=emsg)
+      allocate (ids(2, ct%nk), xis(ndim, ct%nk), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'ids, xis in contact_memory_advance')
       n = 0
       do k = 1, ct%nk
          if (ct%kw(k) <= 0.0_rp) cycle
-         s = norm2(ct%kt(1:2, k))
+         s = norm2(ct%kt(1:ndim, k))
          if (s <= 0.0_rp) cycle
-         nn = ct%kt(1:2, k)/s
+         nn = ct%kt(1:ndim, k)/s
          xc = ct%kx(:, k)/ct%kw(k)
          vrel = velocity(ct%kid(1, k)) - velocity(ct%kid(2, k))
          xi = 0.0_rp
@@ -226,7 +227,7 @@ contains
       !> (no body) the weighted mean velocity of its particles in the contact.
       function velocity(id) result(v)
          integer, intent(in) :: id
-         real(rp) :: v(2)
+         real(rp) :: v(ndim)
          integer :: b
          b = body_of(bodies, id)
          if (b > 0) then
@@ -245,7 +246,7 @@ contains
       integer :: m
       integer :: ist
       character(len=200) :: emsg
-      allocate (tab(4, ct%nm), stat=ist, errmsg=emsg)
+      allocate (tab(2 + ndim, ct%nm), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'tab in contact_memory_get')
       do m = 1, ct%nm
          tab(:, m) = [real(ct%mid(1, m), rp), real(ct%mid(2, m), rp), ct%mxi(:, m)]

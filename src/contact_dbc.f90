@@ -4,6 +4,7 @@
 !> friction on the pressure force.
 module contact_dbc
    use kinds, only: rp
+   use constants, only: ndim
    use params, only: params_t
    use particles, only: particles_t
    use body_dynamics, only: body_t
@@ -25,7 +26,7 @@ contains
       type(body_t), intent(inout) :: bodies(:)
       real(rp), intent(inout) :: drho(:)
       integer :: m, i, j, bi, bj
-      real(rp) :: d(2), gw(2), dr, f(2), fn, vij(2)
+      real(rp) :: d(ndim), gw(ndim), dr, f(ndim), fn, vij(ndim)
       do m = 1, ct%nc
          i = ct%cij(1, m); j = ct%cij(2, m); bi = ct%cij(3, m); bj = ct%cij(4, m)
          d = p%x(:, i) - p%x(:, j)
@@ -37,7 +38,7 @@ contains
          f = -p%mass(i)*p%mass(j)*(p%p(i) + p%p(j))/(p%rho(i)*p%rho(j))*gw
          fn = norm2(f)
          call pair_force(bodies, p, i, j, bi, bj, f, .true.)
-         if (fn > 0.0_rp) call pair_friction(ct, bodies, p, i, j, bi, bj, f/fn, fn, vij, [0.0_rp, 0.0_rp])
+         if (fn > 0.0_rp) call pair_friction(ct, bodies, p, i, j, bi, bj, f/fn, fn, vij, spread(0.0_rp, 1, ndim))
       end do
    end subroutine dbc_pairs
 end module contact_dbc

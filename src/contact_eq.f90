@@ -4,7 +4,7 @@
 !> u_L and the slip taken at the contact centre of two touching bodies.
 module contact_eq
    use kinds, only: rp
-   use constants, only: pi
+   use constants, only: pi, ndim
    use params, only: params_t
    use particles, only: particles_t
    use body_dynamics, only: body_t
@@ -24,7 +24,7 @@ contains
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
       integer :: m, i, j, bi, bj, k
-      real(rp) :: d(2), n(2), psi_c, xi, pw, psi, q, rq
+      real(rp) :: d(ndim), n(ndim), psi_c, xi, pw, psi, q, rq
       pairs: do m = 1, ct%nc
          i = ct%cij(1, m); j = ct%cij(2, m); bi = ct%cij(3, m); bj = ct%cij(4, m)
          d = p%x(:, i) - p%x(:, j)
@@ -42,7 +42,7 @@ contains
          k = key_index(ct, p%body(i), p%body(j))
          ct%kx(:, k) = ct%kx(:, k) + rq*pw*0.5_rp*(p%x(:, i) + p%x(:, j))
          ct%kw(k) = ct%kw(k) + rq*pw
-         ct%kt(1:2, k) = ct%kt(1:2, k) + merge(rq*pw, -rq*pw, p%body(i) < p%body(j))*n
+         ct%kt(1:ndim, k) = ct%kt(1:ndim, k) + merge(rq*pw, -rq*pw, p%body(i) < p%body(j))*n
          if (bi == 0) ct%kv(:, k) = ct%kv(:, k) + rq*pw*p%v(:, i)
          if (bj == 0) ct%kv(:, k) = ct%kv(:, k) + rq*pw*p%v(:, j)
          call store_pair(ct, i, j, bi, bj, n, rq*pw, q, pw*max(prm%dp - psi_c, 0.0_rp), k)
@@ -60,7 +60,7 @@ contains
       type(particles_t), intent(in) :: p
       type(body_t), intent(inout) :: bodies(:)
       integer :: m, i, j, bi, bj
-      real(rp) :: xc(2), vrel(2), n(2), ul, a, fn, m_ij, rp_w, q, kstiff, aimp, xi(2), kc, kc_pair, cc, f_core, mb
+      real(rp) :: xc(ndim), vrel(ndim), n(ndim), ul, a, fn, m_ij, rp_w, q, kstiff, aimp, xi(ndim), kc, kc_pair, cc, f_core, mb
       pairs: do m = 1, ct%np
          i = ct%pij(1, m); j = ct%pij(2, m); bi = ct%pb(1, m); bj = ct%pb(2, m)
          n = ct%pn(:, m); rp_w = ct%pw(m); q = ct%pq(m)

@@ -4,6 +4,8 @@
 module contact_hertz
    use errors, only: alloc_check
    use kinds, only: rp
+   use constants, only: ndim
+   use tensor, only: sym_outer, sym_quad
    use params, only: params_t
    use particles, only: particles_t
    use body_dynamics, only: body_t
@@ -96,12 +98,15 @@ contains
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
       type(body_t), intent(in) :: bodies(:)
-      integer :: m, i, j, bi, bj, k
-      real(rp) :: d(2), r2, overlap, n(2), w, un, kn, dmax
+      integer :: m, i, j, bi, bj, k, c
+      real(rp) :: d(ndim), r2, overlap, n(ndim), w, un, kn, dmax
       do m = 1, ct%nc
          i = ct%cij(1, m); j = ct%cij(2, m); bi = ct%cij(3, m); bj = ct%cij(4, m)
          d = p%x(:, i) - p%x(:, j)
-         r2 = d(1)**2 + d(2)**2
+         r2 = d(1)**2
+         do c = 2, ndim
+            r2 = r2 + d(c)**2
+         end do
          ! resolve the coming impact from before the first touch: its duration
          ! for one pair meeting at the approach speed un (Hertz) is
          ! 2.94 dmax/|un|, dmax = (5/4 M un^2/kn)^(2/5); take 40 steps or more
@@ -121,7 +126,7 @@ contains
          ! oriented from the lower body id to the higher, whichever of the two
          ! particles the sweep calls i
          ct%kx(:, k) = ct%kx(:, k) + merge(w, -w, p%body(i) > p%body(j))*n
-         ct%kt(:, k) = ct%kt(:, k) + w*[n(1)*n(1), n(1)*n(2), n(2)*n(2)]
+         ct%kt(:, k) = ct%kt(:, k) + w*sym_outer(n)
          call store_pair(ct, i, j, bi, bj, n, overlap, 0.0_rp, 0.0_rp, k)
       end do
    end subroutine hertz_gather
@@ -141,7 +146,7 @@ contains
       type(particles_t), intent(in) :: p
       type(body_t), intent(inout) :: bodies(:)
       integer :: m, i, j, bi, bj, k
-      real(rp) :: overlap, n(2), ul, kn, gn, mc, fn, sk, sn, nn(2), vij(2)
+      real(rp) :: overlap, n(ndim), ul, kn, gn, mc, fn, sk, sn, nn(ndim), vij(ndim)
       do m = 1, ct%np
          i = ct%pij(1, m); j = ct%pij(2, m); bi = ct%pb(1, m); bj = ct%pb(2, m)
          n = ct%pn(:, m); overlap = ct%pw(m); k = ct%pkey(m)
@@ -151,7 +156,7 @@ contains
          mc = body_mass(bodies, bi, bj)
          sk = 1.5_rp*kn*sqrt(overlap)
          nn = ct%kx(:, k)/max(norm2(ct%kx(:, k)), tiny(1.0_rp))
-         sn = 1.5_rp*kn*max(ct%kt(1, k)*nn(1)**2 + 2.0_rp*ct%kt(2, k)*nn(1)*nn(2) + ct%kt(3, k)*nn(2)**2, &
+         sn = 1.5_rp*kn*max(sym_quad(ct%kt(:, k), nn), &
                             1.0e-3_rp*ct%kw(k))
          gn = tsuji_alpha(ct, restitution(bodies, bi, bj))*sqrt(mc/(1.5_rp*sn))*sk
          fn = max(kn*overlap**1.5_rp - gn*ul, 0.0_rp)

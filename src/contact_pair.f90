@@ -5,6 +5,8 @@
 !> bodies (masses, friction, restitution, elastic constants, the normal).
 module contact_pair
    use kinds, only: rp
+   use constants, only: ndim
+   use tensor, only: tangent_basis
    use particles, only: particles_t
    use body_dynamics, only: body_t, bodies_damping_add
    use rigid, only: rigid_moment_add, rigid_moment_sub, rigid_point_velocity
@@ -12,8 +14,8 @@ module contact_pair
    use contact_state, only: contact_t
    implicit none
    private
-   public :: pair_force, pair_friction, pair_viscous, velocity_at, contact_normal, is_floating, &
-             pair_mass, body_mass, friction_coef, restitution, tau_pair
+   public :: pair_force, pair_friction, pair_viscous, velocity_at, contact_normal, &
+             pair_mass, body_mass, restitution, tau_pair
 
 contains
 
@@ -23,9 +25,9 @@ contains
       type(body_t), intent(inout) :: bodies(:)
       type(particles_t), intent(in) :: p
       integer, intent(in) :: i, j, bi, bj
-      real(rp), intent(in) :: f(2)
+      real(rp), intent(in) :: f(ndim)
       logical, intent(in) :: normal
-      real(rp) :: r(2)
+      real(rp) :: r(ndim)
       if (bi > 0) then
          r = p%x(:, i) - bodies(bi)%pose%c
          if (normal) then
@@ -58,7 +60,7 @@ contains
       type(body_t), intent(in) :: bodies(:)
       type(particles_t), intent(in) :: p
       integer, intent(in) :: i, j, bi, bj
-      real(rp), intent(in) :: c, e(2)
+      real(rp), intent(in) :: c, e(ndim)
       call bodies_damping_add(ct%damp, bodies, bi, bj, p%x(:, i), p%x(:, j), c, e)
    end subroutine pair_viscous
 
@@ -72,15 +74,22 @@ contains
       type(body_t), intent(inout) :: bodies(:)
       type(particles_t), intent(in) :: p
       integer, intent(in) :: i, j, bi, bj
-      real(rp), intent(in) :: n(2), fn, vij(2), xi(2)
-      real(rp) :: vt(2), u(2), s, mu
+      real(rp), intent(in) :: n(ndim), fn, vij(ndim), xi(ndim)
+      real(rp) :: vt(ndim), u(ndim), s, mu, e(ndim, ndim - 1)
+      integer :: k
       mu = friction_coef(bodies, bi, bj)
       if (mu <= 0.0_rp .or. fn <= 0.0_rp) return
       vt = vij - dot_product(vij, n)*n
       u = vt/ct%v_stick
       if (ct%xi_max > 0.0_rp) u = u + (xi - dot_product(xi, n)*n)/ct%xi_max
       s = norm2(u)
-      if (s < 1.0_rp) call pair_viscous(ct, bodies, p, i, j, bi, bj, mu*fn/ct%v_stick, [-n(2), n(1)])
+      if (s < 1.0_rp) then
+         ! the viscous term along every direction of the tangent plane
+         e = tangent_basis(n)
+         do k = 1, ndim - 1
+            call pair_viscous(ct, bodies, p, i, j, bi, bj, mu*fn/ct%v_stick, e(:, k))
+         end do
+      end if
       if (s <= 0.0_rp) return
       call pair_force(bodies, p, i, j, bi, bj, -mu*fn*u/max(s, 1.0_rp), .false.)
    end subroutine pair_friction
@@ -91,8 +100,8 @@ contains
       type(body_t), intent(in) :: bodies(:)
       type(particles_t), intent(in) :: p
       integer, intent(in) :: b, own
-      real(rp), intent(in) :: x(2)
-      real(rp) :: v(2)
+      real(rp), intent(in) :: x(ndim)
+      real(rp) :: v(ndim)
       if (b > 0) then
          v = rigid_point_velocity(bodies(b)%v, bodies(b)%omega, x - bodies(b)%pose%c)
       else
@@ -106,8 +115,8 @@ contains
    pure function contact_normal(p, i, j, d) result(n)
       type(particles_t), intent(in) :: p
       integer, intent(in) :: i, j
-      real(rp), intent(in) :: d(2)
-      real(rp) :: n(2), s
+      real(rp), intent(in) :: d(ndim)
+      real(rp) :: n(ndim), s
       if (p%surf(j) == 1 .and. p%surf(i) /= 1) then
          n = p%nrm(:, j)
       else if (p%surf(i) == 1 .and. p%surf(j) /= 1) then

@@ -6,6 +6,7 @@
 module contact_state
    use errors, only: alloc_check
    use kinds, only: rp, lk
+   use constants, only: ndim, nsym
    use options, only: model_spring
    implicit none
    private
@@ -61,8 +62,8 @@ module contact_state
       real(rp), allocatable :: po(:)        !< overlap of the two outlines, dp - (normal distance), times P(xi) [m]
       integer, allocatable :: kid(:, :)
       real(rp), allocatable :: kx(:, :), kw(:)
-      real(rp), allocatable :: kt(:, :)     !< Hertz: sum of sqrt(overlap) n n^T per pair of bodies (xx, xy, yy);
-                                            !< Eq. 2-6 models: weighted normal (1:2), from the higher id to the lower
+      real(rp), allocatable :: kt(:, :)     !< Hertz: sum of sqrt(overlap) n n^T per pair of bodies (slots as sym_outer);
+                                            !< Eq. 2-6 models: weighted normal (1:ndim), from the higher id to the lower
       integer, allocatable :: kmem(:)       !< slip memory of each contact of the sweep (0: none yet)
       real(rp), allocatable :: kv(:, :)     !< Eq. 2-6 models: weighted velocity of the wall's particles (no body)
       ! slip memory of the static friction (Eq. 2-6 models): per pair of
@@ -91,17 +92,17 @@ contains
       if (k > 0) return
       if (.not. allocated(ct%kid)) then
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-         allocate (ct%kid(2, 16), ct%kx(2, 16), ct%kw(16), ct%kt(3, 16), ct%kmem(16), ct%kv(2, 16), &
+         allocate (ct%kid(2, 16), ct%kx(ndim, 16), ct%kw(16), ct%kt(nsym, 16), ct%kmem(16), ct%kv(ndim, 16), &
                    stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'ct%kid, ct%kx, ct%kw, ... in key_index')
       end if
       if (ct%nk == size(ct%kw)) then
          ct%kid = reshape([ct%kid, spread(0, 1, 2*ct%nk)], [2, 2*ct%nk])
-         ct%kx = reshape([ct%kx, spread(0.0_rp, 1, 2*ct%nk)], [2, 2*ct%nk])
-         ct%kt = reshape([ct%kt, spread(0.0_rp, 1, 3*ct%nk)], [3, 2*ct%nk])
+         ct%kx = reshape([ct%kx, spread(0.0_rp, 1, ndim*ct%nk)], [ndim, 2*ct%nk])
+         ct%kt = reshape([ct%kt, spread(0.0_rp, 1, nsym*ct%nk)], [nsym, 2*ct%nk])
          ct%kw = [ct%kw, spread(0.0_rp, 1, ct%nk)]
          ct%kmem = [ct%kmem, spread(0, 1, ct%nk)]
-         ct%kv = reshape([ct%kv, spread(0.0_rp, 1, 2*ct%nk)], [2, 2*ct%nk])
+         ct%kv = reshape([ct%kv, spread(0.0_rp, 1, ndim*ct%nk)], [ndim, 2*ct%nk])
       end if
       ct%nk = ct%nk + 1
       k = ct%nk
@@ -128,13 +129,13 @@ contains
    subroutine store_pair(ct, i, j, bi, bj, n, w, q, o, k)
       type(contact_t), intent(inout) :: ct
       integer, intent(in) :: i, j, bi, bj, k
-      real(rp), intent(in) :: n(2), w, q, o
+      real(rp), intent(in) :: n(ndim), w, q, o
       integer :: cap
       integer :: ist
       character(len=200) :: emsg
       if (.not. allocated(ct%pkey)) then
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-         allocate (ct%pij(2, 256), ct%pb(2, 256), ct%pkey(256), ct%pn(2, 256), &
+         allocate (ct%pij(2, 256), ct%pb(2, 256), ct%pkey(256), ct%pn(ndim, 256), &
                    ct%pw(256), ct%pq(256), ct%po(256), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'ct%pij, ct%pb, ct%pkey, ... in store_pair')
       end if
@@ -143,7 +144,7 @@ contains
          ct%pij = reshape([ct%pij, spread(0, 1, 2*cap)], [2, 2*cap])
          ct%pb = reshape([ct%pb, spread(0, 1, 2*cap)], [2, 2*cap])
          ct%pkey = [ct%pkey, spread(0, 1, cap)]
-         ct%pn = reshape([ct%pn, spread(0.0_rp, 1, 2*cap)], [2, 2*cap])
+         ct%pn = reshape([ct%pn, spread(0.0_rp, 1, ndim*cap)], [ndim, 2*cap])
          ct%pw = [ct%pw, spread(0.0_rp, 1, cap)]
          ct%pq = [ct%pq, spread(0.0_rp, 1, cap)]
          ct%po = [ct%po, spread(0.0_rp, 1, cap)]
@@ -191,7 +192,7 @@ contains
       ct%nm = size(ids, 2)
       if (allocated(ct%mid)) deallocate (ct%mid, ct%mxi)
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (ct%mid(2, max(ct%nm, 1)), ct%mxi(2, max(ct%nm, 1)), stat=ist, errmsg=emsg)
+      allocate (ct%mid(2, max(ct%nm, 1)), ct%mxi(ndim, max(ct%nm, 1)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'ct%mid, ct%mxi in contact_memory_set')
       ct%mid(:, 1:ct%nm) = ids
       ct%mxi(:, 1:ct%nm) = xis

@@ -10,7 +10,7 @@ module decomp
    use grid, only: grid_column
    implicit none
    private
-   public :: decomp_t, decomp_init, decomp_owner, decomp_column, decomp_count, decomp_balance, decomp_set_edges, decomp_lo, &
+   public :: decomp_t, decomp_init, decomp_owner, decomp_count, decomp_balance, decomp_set_edges, decomp_lo, &
              decomp_hi
 
    !> The slabs of a run: the columns, the ranks and each rank's first column.

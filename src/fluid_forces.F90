@@ -11,6 +11,7 @@ module fluid_forces
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
    use constants, only: kind_fluid, ndim, nsym
+   use tensor, only: sym_slot
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive, bnd_mdbc, &
                      slip_wall, shift_none
    use grid, only: grid_t, grid_ranges, grid_last_cell, grid_neighbours
@@ -481,21 +482,35 @@ contains
    subroutine sps_tau(prm, p, gv, tau, i_lo, i_hi)
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
-      real(rp), intent(in) :: gv(:, :)
-      real(rp), intent(inout) :: tau(:, :)
+      real(rp), intent(in) :: gv(:, :)         !< d v_a / d x_b in slot ndim (a - 1) + b
+      real(rp), intent(inout) :: tau(:, :)     !< in the slots of a symmetric tensor (tensor: sym_slot)
       integer, intent(in) :: i_lo, i_hi     !< the particles whose sums are complete
-      integer :: i
-      real(rp) :: sxx, sxy, syy, s2, nut, sk
+      integer :: i, a, b
+      real(rp) :: s(nsym), sd, tr, s2, nut, sk
       do i = i_lo, i_hi
-         sxx = gv(1, i)
-         syy = gv(4, i)
-         sxy = 0.5_rp*(gv(2, i) + gv(3, i))
-         s2 = 2.0_rp*(sxx*sxx + syy*syy) + 4.0_rp*sxy*sxy        ! 2 S:S
+         ! the strain rate S = (grad v + grad v^T)/2 and 2 S:S, the diagonal first
+         sd = 0.0_rp
+         tr = 0.0_rp
+         do a = 1, ndim
+            s(sym_slot(a, a)) = gv(ndim*(a - 1) + a, i)
+            sd = sd + s(sym_slot(a, a))*s(sym_slot(a, a))
+            tr = tr + s(sym_slot(a, a))
+         end do
+         s2 = 2.0_rp*sd
+         do a = 1, ndim
+            do b = a + 1, ndim
+               s(sym_slot(a, b)) = 0.5_rp*(gv(ndim*(a - 1) + b, i) + gv(ndim*(b - 1) + a, i))
+               s2 = s2 + 4.0_rp*s(sym_slot(a, b))*s(sym_slot(a, b))
+            end do
+         end do
          nut = prm%sps_smag*sqrt(s2)
-         sk = -(2.0_rp/3.0_rp)*nut*(sxx + syy) - prm%sps_blin*s2
-         tau(1, i) = (2.0_rp*nut*sxx + sk)/p%rho(i)
-         tau(2, i) = 2.0_rp*nut*sxy/p%rho(i)
-         tau(3, i) = (2.0_rp*nut*syy + sk)/p%rho(i)
+         sk = -(2.0_rp/3.0_rp)*nut*tr - prm%sps_blin*s2
+         do a = 1, ndim
+            tau(sym_slot(a, a), i) = (2.0_rp*nut*s(sym_slot(a, a)) + sk)/p%rho(i)
+            do b = a + 1, ndim
+               tau(sym_slot(a, b), i) = 2.0_rp*nut*s(sym_slot(a, b))/p%rho(i)
+            end do
+         end do
          if (p%kind(i) /= kind_fluid) tau(:, i) = 0.0_rp
       end do
    end subroutine sps_tau

@@ -18,7 +18,7 @@ module grid
    use particles, only: particles_t, particles_permute
    implicit none
    private
-   public :: grid_t, grid_neighbours, grid_init, grid_columns, grid_sort, grid_cell, grid_column, &
+   public :: grid_t, grid_neighbours, grid_init, grid_columns, grid_sort, grid_column, &
              grid_first_column_end, &
              grid_add_halo, grid_ranges, grid_last_cell, grid_point_ranges, grid_line_ranges
 
@@ -34,7 +34,7 @@ module grid
       integer :: ny               !< rows with the ghost rows: ncy + 2 reach
       integer :: stride           !< index distance of neighbouring columns: ny
       ! cell (ix, iy) (ix: 0 ghost, 1..ncol slab, ncol+1 halo or ghost; iy: 1..ncy,
-      ! with reach ghost rows below and above) is number ix*ny + iy + reach: see grid_cell
+      ! with reach ghost rows below and above) is number ix*ny + iy + reach: see grid_cell_of
       integer :: ncell            !< nx*ny
       integer, allocatable :: cstart(:)   !< particles of cell c: cstart(c) .. cstart(c+1)-1
       integer, allocatable :: cell(:)     !< cell of each particle (the sort's scratch); after a sort
@@ -99,16 +99,6 @@ contains
       iy = min(max(int((y - g%y0)*g%icsy) + 1, 1), g%ncy)
       c = iy + ix*g%ny + g%reach
    end function grid_cell_of
-
-   !> Cell number of global column k (0-based, as grid_column) and row iy
-   !> (1 .. ncy), or 0 when column k is not one of this rank's slab.
-   pure integer function grid_cell(g, k, iy) result(c)
-      type(grid_t), intent(in) :: g
-      integer, intent(in) :: k, iy
-      c = 0
-      if (k < g%col0 .or. k >= g%col0 + g%ncol) return
-      c = iy + (k - g%col0 + 1)*g%ny + g%reach
-   end function grid_cell
 
    !> The half stencil of particle i of cell c: the later particles of c and
    !> those of the reach cells above it (jlo(1) .. jhi(1)), and those of the

@@ -13,7 +13,7 @@ module input_body
                       body_motion_names, motion_floating, motion_prescribed
    implicit none
    private
-   public :: body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact, body_max_vert
+   public :: body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
 
    integer, parameter :: body_max_vert = 100
 

@@ -5,7 +5,7 @@ module io_bodies
    use constants, only: msg_len
    use io_files, only: csv_rows_until, csv_flush
    use body_dynamics, only: body_t
-   use rigid, only: rigid_angle
+   use rigid, only: rigid_angle, rigid_pose_pack
    use errors, only: fatal
    implicit none
    private
@@ -50,7 +50,7 @@ contains
       if (.not. bf%opened) return
       do b = 1, size(bodies)
          associate (x => bodies(b))
-            write (bf%unit, '(es23.15e3,",",i0,19(",",es23.15e3))') t, b, x%pose%c, x%pose%theta, x%v, x%omega, &
+            write (bf%unit, '(es23.15e3,",",i0,19(",",es23.15e3))') t, b, rigid_pose_pack(x%pose), x%v, x%omega, &
                x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric, 0.0_rp, -x%mass*x%g, &
                norm2(x%pose%c - x%pose_start%c), rigid_angle(x%pose, x%pose_start)
          end associate

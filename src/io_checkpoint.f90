@@ -7,6 +7,8 @@
 !> other number of ranks can restart it too (each rank keeps its slab).
 module io_checkpoint
    use kinds, only: rp
+   use constants, only: ndim
+   use rigid, only: npose, nrot, rigid_pose_pack, rigid_pose_unpack
    use particles, only: particles_t, particles_alloc, particles_field, field_on, fields, nfield, grp_mdbc
    use run_state, only: state_t
    use body_dynamics, only: body_t
@@ -32,6 +34,9 @@ module io_checkpoint
       integer, pointer :: iv(:) => null()
       real(rp), allocatable :: own(:, :)
    end type column_t
+
+   !> numbers per body in the checkpoint: the pose, the velocity and the angular velocity
+   integer, parameter :: nbody_row = npose + ndim + nrot
 
 contains
 
@@ -94,10 +99,10 @@ contains
       call h5_attr_write(f, 'pad_xc', st%pad_xc)
       call h5_attr_write(f, 'pad_eta_mean', st%pad_eta_mean)
       if (size(bodies) > 0) then
-         allocate (bs(6, size(bodies)), stat=ist, errmsg=emsg)
+         allocate (bs(nbody_row, size(bodies)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'bs in checkpoint_write')
          do b = 1, size(bodies)
-            bs(:, b) = [bodies(b)%pose%c, bodies(b)%pose%theta, bodies(b)%v, bodies(b)%omega]
+            bs(:, b) = [rigid_pose_pack(bodies(b)%pose), bodies(b)%v, bodies(b)%omega]
          end do
          call h5_write(f, 'bodies', bs)
       end if
@@ -211,14 +216,13 @@ contains
       if (h5_attr_exists(f, 'pad_xc')) call h5_attr_read(f, 'pad_xc', st%pad_xc)
       if (h5_attr_exists(f, 'pad_eta_mean')) call h5_attr_read(f, 'pad_eta_mean', st%pad_eta_mean)
       if (size(bodies) > 0) then
-         allocate (bs(6, size(bodies)), stat=ist, errmsg=emsg)
+         allocate (bs(nbody_row, size(bodies)), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'bs in checkpoint_read')
          call h5_read(f, 'bodies', bs)
          do b = 1, size(bodies)
-            bodies(b)%pose%c = bs(1:2, b)
-            bodies(b)%pose%theta = bs(3, b)
-            bodies(b)%v = bs(4:5, b)
-            bodies(b)%omega = bs(6:6, b)
+            bodies(b)%pose = rigid_pose_unpack(bs(1:npose, b))
+            bodies(b)%v = bs(npose + 1:npose + ndim, b)
+            bodies(b)%omega = bs(npose + ndim + 1:nbody_row, b)
          end do
       end if
       if (h5_exists(f, 'pad_history')) then
@@ -227,7 +231,7 @@ contains
          call h5_read(f, 'pad_history', st%pad_hist)
       end if
       if (h5_exists(f, 'contact_memory')) then
-         allocate (mem(4, h5_length(f, 'contact_memory')), stat=ist, errmsg=emsg)
+         allocate (mem(2 + ndim, h5_length(f, 'contact_memory')), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'mem in checkpoint_read')
          call h5_read(f, 'contact_memory', mem)
       else

@@ -13,7 +13,7 @@ module io_snapshot
    use io_files, only: snap_name, file_exists
    use errors, only: fatal, alloc_check
    use body_dynamics, only: body_t
-   use rigid, only: rigid_rotation, rigid_rotate
+   use rigid, only: rigid_rotation, rigid_rotate, rigid_pose_pack, npose
    use porous, only: porous_t, porous_point, n_por
    implicit none
    private
@@ -163,7 +163,7 @@ contains
       integer :: ist
       character(len=200) :: emsg
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (start(size(bodies) + 1), pose(3, size(bodies)), stat=ist, errmsg=emsg)
+      allocate (start(size(bodies) + 1), pose(npose, size(bodies)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'start, pose in write_outlines')
       start(1) = 0
       do b = 1, size(bodies)
@@ -179,7 +179,7 @@ contains
             m = m + 1
             xy(:, m) = bodies(b)%pose%c + rigid_rotate(rot, bodies(b)%outline(:, k))
          end do
-         pose(:, b) = [bodies(b)%pose%c(1), bodies(b)%pose%c(2), bodies(b)%pose%theta]
+         pose(:, b) = rigid_pose_pack(bodies(b)%pose)
       end do
       call h5_write(f, 'body_outline', xy)
       call h5_write(f, 'body_outline_start', start)

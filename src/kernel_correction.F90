@@ -11,6 +11,7 @@ module kernel_correction
    use grid, only: grid_t, grid_ranges, grid_last_cell
    use particles, only: particles_t
    use nbr_list, only: nbr_t
+   use tensor, only: sym_det, sym_adjugate, sym_identity
    implicit none
    private
    public :: kgc_sums, kgc_finish, shepard_sums, shepard_apply
@@ -21,7 +22,7 @@ contains
 #include "kernel_formulas.inc"
 
    !> The moment matrices B_i = sum_j V_j grad W_ij (x_j - x_i)^T, stored as
-   !> (Bxx, Bxy, Byy) in lm(:, i): the pairs of the rows of nb added to lm
+   !> their nsym components (Bxx, Bxy, Byy in 2D: the slots of tensor) in lm(:, i): the pairs of the rows of nb added to lm
    !> (zero before the first rows); kgc_finish turns them into the
    !> correction matrices once every pair of a particle is in (on several
    !> ranks, once the halo's share has reached its owner).
@@ -43,27 +44,26 @@ contains
    end subroutine kgc_sums
 
    !> From the moment matrices B summed over the pairs (kgc_sums, or the
-   !> sweep shared with the SPS velocity gradients) to L_i = B^-1, stored as
-   !> (Lxx, Lxy, Lyy), blended to the identity where B is near-singular
+   !> sweep shared with the SPS velocity gradients) to L_i = B^-1, stored in
+   !> the same slots, blended to the identity where B is near-singular
    !> (free-surface spray).
    subroutine kgc_finish(lm, i_lo, i_hi)
       real(rp), intent(inout) :: lm(:, :)
       integer, intent(in) :: i_lo, i_hi     !< the particles whose sums are complete
       integer :: i
-      real(rp) :: a11, a12, a22, det, wgt
+      real(rp) :: det, wgt
       real(rp), parameter :: det_full = 0.75_rp, det_none = 0.5_rp
       do i = i_lo, i_hi
-         a11 = lm(1, i); a12 = lm(2, i); a22 = lm(3, i)
-         det = a11*a22 - a12*a12
+         det = sym_det(lm(:, i))
          ! a full support gives det(B) = 1. Near a free surface the support is
          ! cut and the inverse would amplify forces there (an instability):
          ! blend from the full correction at det >= det_full to none at
          ! det <= det_none, continuously.
          wgt = min(max((det - det_none)/(det_full - det_none), 0.0_rp), 1.0_rp)
          if (wgt > 0.0_rp) then
-            lm(:, i) = wgt*[a22, -a12, a11]/det + (1.0_rp - wgt)*[1.0_rp, 0.0_rp, 1.0_rp]
+            lm(:, i) = wgt*sym_adjugate(lm(:, i))/det + (1.0_rp - wgt)*sym_identity()
          else
-            lm(:, i) = [1.0_rp, 0.0_rp, 1.0_rp]
+            lm(:, i) = sym_identity()
          end if
       end do
    end subroutine kgc_finish

@@ -36,6 +36,10 @@ module particles
       integer :: n_id = 0                    !< largest id handed out
       logical :: history = .true.            !< the Verlet integrator's fields (vm1, rhom1) are held
       logical :: mdbc = .false.              !< the modified dynamic boundary's fields (gof, gob) are held
+      ! the scratch of particles_permute, kept between sorts (sized to the moved slots)
+      real(rp), allocatable :: perm_r(:)     !< one row of a real field
+      integer, allocatable :: perm_i(:)      !< an integer field
+      integer, allocatable :: perm_moved(:)  !< slots whose particle changes, when no work array is lent
       ! the fields of src/particle_fields.fypp
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "particle_decl.inc"
@@ -60,10 +64,6 @@ module particles
 #include "particle_table.inc"
 
    integer, parameter :: act_none = 0, act_alloc = 1, act_grow = 2
-
-   real(rp), allocatable :: rtmp(:)          ! scratch for permutations
-   integer, allocatable :: itmp(:)
-   integer, allocatable, target :: moved_own(:)   ! slots whose particle changes, when no work array is lent
 
 contains
 
@@ -310,8 +310,8 @@ contains
       if (present(work)) then
          moved => work
       else
-         call scratch_int(moved_own, nnew)
-         moved => moved_own
+         call scratch_int(p%perm_moved, nnew)
+         moved => p%perm_moved
       end if
       nmoved = 0
       do k = 1, nnew
@@ -321,8 +321,8 @@ contains
          end if
       end do
       if (nmoved > 0) then
-         call scratch_real(rtmp, max(nmoved, size(p%x, 2)/8))
-         call scratch_int(itmp, max(nmoved, size(p%x, 2)/8))
+         call scratch_real(p%perm_r, max(nmoved, size(p%x, 2)/8))
+         call scratch_int(p%perm_i, max(nmoved, size(p%x, 2)/8))
          do k = 1, nfield
             if (.not. field_on(p, k)) cycle
             call particles_field(p, k, r, iv)
@@ -342,20 +342,20 @@ contains
          integer, intent(in) :: row
          integer :: m
          do m = 1, nmoved
-            rtmp(m) = a(row, perm(moved(m)))
+            p%perm_r(m) = a(row, perm(moved(m)))
          end do
          do m = 1, nmoved
-            a(row, moved(m)) = rtmp(m)
+            a(row, moved(m)) = p%perm_r(m)
          end do
       end subroutine permute_row
       subroutine permute_int(a)
          integer, intent(inout) :: a(:)
          integer :: m
          do m = 1, nmoved
-            itmp(m) = a(perm(moved(m)))
+            p%perm_i(m) = a(perm(moved(m)))
          end do
          do m = 1, nmoved
-            a(moved(m)) = itmp(m)
+            a(moved(m)) = p%perm_i(m)
          end do
       end subroutine permute_int
    end subroutine particles_permute
@@ -410,18 +410,22 @@ contains
       end do
    end function particles_nan
 
-   !> Zero when every fluid particle of 1..n is inside the box and the density
-   !> limits (else more: an upper bound of the removals, the pores' limits are looser).
+   !> Zero when every fluid particle of 1..n is inside the box (the lower and
+   !> upper bound of each dimension in turn: xmin, xmax, ymin, ymax, ...) and the
+   !> density limits (else more: an upper bound of the removals, the pores'
+   !> limits are looser).
    pure integer function particles_outside(n, kind, x, rho, box, rho_min, rho_max) result(k)
       integer, intent(in) :: n, kind(n)
-      real(rp), intent(in) :: x(ndim, n), rho(n), box(4), rho_min, rho_max
-      integer :: i
+      real(rp), intent(in) :: x(ndim, n), rho(n), box(2*ndim), rho_min, rho_max
+      integer :: i, d, m
       k = 0
       ! one count per limit, so that the loop has no branch (a particle may count twice)
       do i = 1, n
-         k = k + merge(1, 0, kind(i) == kind_fluid)*(merge(1, 0, x(1, i) < box(1)) + merge(1, 0, x(1, i) > box(2)) + &
-                                                     merge(1, 0, x(2, i) < box(3)) + merge(1, 0, x(2, i) > box(4)) + &
-                                                     merge(1, 0, rho(i) < rho_min) + merge(1, 0, rho(i) > rho_max))
+         m = merge(1, 0, rho(i) < rho_min) + merge(1, 0, rho(i) > rho_max)
+         do d = 1, ndim
+            m = m + merge(1, 0, x(d, i) < box(2*d - 1)) + merge(1, 0, x(d, i) > box(2*d))
+         end do
+         k = k + merge(1, 0, kind(i) == kind_fluid)*m
       end do
    end function particles_outside
 end module particles

@@ -16,10 +16,12 @@ module rigid
    private
    public :: pose_t, nrot, ndof, rigid_rotation, rigid_rotate, rigid_point_velocity, rigid_moment, &
              rigid_moment_add, rigid_moment_sub, rigid_angular_accel, rigid_inertia_inverse, rigid_turn, &
-             rigid_angle, rigid_rot_energy
+             rigid_angle, rigid_rot_energy, npose, rigid_pose_pack, rigid_pose_unpack
 
    integer, parameter :: nrot = ndim*(ndim - 1)/2   !< rotational degrees of freedom: 1 in 2D, 3 in 3D
    integer, parameter :: ndof = ndim + nrot         !< degrees of freedom of a body
+   integer, parameter :: nori = merge(1, 4, ndim == 2)   !< numbers of an orientation: an angle in 2D, a quaternion in 3D
+   integer, parameter :: npose = ndim + nori        !< numbers of a pose (rigid_pose_pack)
 
    !> Where a body is: its centre and its orientation.
    type :: pose_t
@@ -28,6 +30,22 @@ module rigid
    end type pose_t
 
 contains
+
+   !> A pose as npose numbers (the checkpoint): the centre, then the orientation.
+   pure function rigid_pose_pack(pose) result(v)
+      type(pose_t), intent(in) :: pose
+      real(rp) :: v(npose)
+      v(1:ndim) = pose%c
+      v(ndim + 1:npose) = pose%theta
+   end function rigid_pose_pack
+
+   !> The pose of npose numbers written by rigid_pose_pack.
+   pure function rigid_pose_unpack(v) result(pose)
+      real(rp), intent(in) :: v(npose)
+      type(pose_t) :: pose
+      pose%c = v(1:ndim)
+      pose%theta = v(npose)
+   end function rigid_pose_unpack
 
    !> The rotation matrix that takes the body's particles from the pose ref
    !> (their frame) to the pose now: x = c + R xb.

@@ -4,6 +4,7 @@
 !> report, balance; the scene builder makes it from &run and &domain).
 module run_state
    use kinds, only: rp, i8
+   use constants, only: ndim
    implicit none
    private
    public :: state_t, run_ctl_t
@@ -43,6 +44,6 @@ module run_state
       integer :: balance_every = 100           !< steps between moves of the slab edges (0: never)
       real(rp) :: max_lost_fraction = 0.02_rp  !< stop when more fluid than this is lost
       logical :: restart = .false.             !< the run continues a checkpoint
-      real(rp) :: box(4) = 0.0_rp              !< the domain: xmin, xmax, ymin, ymax [m]
+      real(rp) :: box(2*ndim) = 0.0_rp         !< the domain: xmin, xmax, ymin, ymax (, zmin, zmax) [m]
    end type run_ctl_t
 end module run_state

@@ -9,7 +9,7 @@
 module solver
    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use kinds, only: rp, i8, lk
-   use constants, only: kind_fluid, kind_filter, kind_name
+   use constants, only: kind_fluid, kind_filter, kind_name, ndim
    use input_check, only: int_str, real_str
    use particles, only: particles_t, particles_nan, particles_outside
    use params, only: params_t, kgc_shepard
@@ -343,16 +343,19 @@ contains
    subroutine mark_leaving(r, nd, nr)
       type(run_t), intent(inout) :: r
       integer, intent(out) :: nd, nr
-      integer :: i
-      real(rp) :: x, y, f(n_por)
+      integer :: i, d
+      real(rp) :: f(n_por)
+      logical :: out
       nd = 0
       nr = 0
       do i = 1, r%p%n_own
          r%drop(i) = .false.
          if (r%p%kind(i) /= kind_fluid) cycle
-         x = r%p%x(1, i)
-         y = r%p%x(2, i)
-         if (x < r%rc%box(1) .or. x > r%rc%box(2) .or. y < r%rc%box(3) .or. y > r%rc%box(4)) then
+         out = .false.
+         do d = 1, ndim
+            out = out .or. r%p%x(d, i) < r%rc%box(2*d - 1) .or. r%p%x(d, i) > r%rc%box(2*d)
+         end do
+         if (out) then
             r%drop(i) = .true.
             nd = nd + 1
          else if (r%p%rho(i) < r%prm%rho_min .or. r%p%rho(i) > r%prm%rho_max) then
