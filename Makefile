@@ -35,7 +35,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test wave-heights unit unit-debug run dambreak breakwater breakwater_core porous_waves lint bench bench-mpi bench-effects clean figures paper stability study porous damage
+.PHONY: all debug deps test wave-heights unit unit-debug unit-3d run dambreak breakwater breakwater_core porous_waves lint bench bench-mpi bench-effects clean figures paper stability study porous damage
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -101,8 +101,23 @@ deps:
 # the tools written against the solver's modules are built with the unit tests, so that they keep compiling
 unit: build/mbsph build/jonswap_signal $(addprefix build/tests/,$(UNIT))
 	@fail=0; for t in $(UNIT); do build/tests/$$t || fail=1; done; exit $$fail
-unit-debug: build/debug/mbsph $(addprefix build/debug/tests/,$(UNIT))
+unit-debug: build/debug/mbsph $(addprefix build/debug/tests/,$(UNIT)) unit-3d
 	@fail=0; for t in $(UNIT); do build/debug/tests/$$t || fail=1; done; exit $$fail
+
+# the 3D forms of the dimension-generic modules (rigid, tensor), run in a 3D build of them:
+# constants with ndim = 3 (generated from src/constants.f90), the modules as they are, their
+# tests (test_tensor as it is; tests/unit3d/test_rigid3d for the 3D rigid body), debug checks on
+T3D_MODS := src/kinds.f90 build/t3d/constants.f90 src/tensor.f90 src/rigid.f90 tests/unit/testing.f90
+build/t3d/constants.f90: src/constants.f90
+	mkdir -p build/t3d
+	sed 's/integer, parameter :: ndim = 2 /integer, parameter :: ndim = 3 /' $< > $@
+	grep -q 'ndim = 3 ' $@
+build/t3d/test_%: $(T3D_MODS) tests/unit3d/test_%.f90
+	cd build/t3d && $(FC) $(WARN) $(OPT_debug) -J. $(addprefix $(CURDIR)/,$^) -o $(notdir $@)
+build/t3d/test_tensor: $(T3D_MODS) tests/unit/test_tensor.f90
+	cd build/t3d && $(FC) $(WARN) $(OPT_debug) -J. $(addprefix $(CURDIR)/,$^) -o $(notdir $@)
+unit-3d: build/t3d/test_tensor build/t3d/test_rigid3d
+	@fail=0; for t in $^; do $$t || fail=1; done; exit $$fail
 
 # the whole suite: unit tests on the release and the debug build, then the
 # integration tests (cases, restart, bad input, output, ParaView, wave heights) on

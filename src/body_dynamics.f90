@@ -6,7 +6,8 @@ module body_dynamics
    use kinds, only: rp
    use constants, only: kind_floating, kind_fixed, kind_moving, pi, ndim
    use rigid, only: pose_t, nrot, ndof, rigid_rotation, rigid_rotate, rigid_point_velocity, rigid_moment, &
-                    rigid_moment_add, rigid_angular_accel, rigid_inertia_inverse, rigid_turn, rigid_rot_energy
+                    rigid_moment_add, rigid_angular_accel, rigid_inertia_inverse, rigid_turn, rigid_rot_energy, &
+                    rigid_world_inertia
    use particles, only: particles_t
    use options, only: motion_floating, motion_prescribed
    implicit none
@@ -24,7 +25,7 @@ module body_dynamics
       integer :: motion = motion_floating
       integer :: id = 0                     !< body number carried by its particles
       real(rp) :: mass = 0.0_rp             !< [kg/m]
-      real(rp) :: inertia(nrot, nrot) = 0.0_rp  !< inertia tensor about the centre [kg m in 2D]
+      real(rp) :: inertia(nrot, nrot) = 0.0_rp  !< inertia tensor about the centre at pose_start [kg m in 2D]
       type(pose_t) :: pose                  !< centre [m] and orientation now
       real(rp) :: v(ndim) = 0.0_rp          !< velocity of the centre [m/s]
       real(rp) :: omega(nrot) = 0.0_rp      !< angular velocity [rad/s]
@@ -156,8 +157,10 @@ contains
       a = 0.0_rp
       alpha = 0.0_rp
       if (b%motion /= motion_floating) return
-      a = (b%f_fluid + b%f_normal + b%f_fric)/b%mass - [0.0_rp, b%g]
-      alpha = rigid_angular_accel(b%inertia, b%t_fluid + b%t_normal + b%t_fric)
+      a = (b%f_fluid + b%f_normal + b%f_fric)/b%mass
+      a(ndim) = a(ndim) - b%g                      ! gravity along the last axis
+      alpha = rigid_angular_accel(rigid_world_inertia(b%inertia, b%pose, b%pose_start), &
+                                  b%t_fluid + b%t_normal + b%t_fric, b%omega)
    end subroutine accel
 
    !> Forget the damping matrix of the last evaluation (nb bodies): damp, of
@@ -287,7 +290,8 @@ contains
             do d = 1, ndim
                m(oo + d, :) = c(oo + d, :)*(1.0_rp/bodies(bb)%mass)
             end do
-            iinv = rigid_inertia_inverse(bodies(bb)%inertia)
+            iinv = rigid_inertia_inverse(rigid_world_inertia(bodies(bb)%inertia, bodies(bb)%pose, &
+                                                             bodies(bb)%pose_start))
             m(oo + ndim + 1:oo + ndof, :) = matmul(iinv, c(oo + ndim + 1:oo + ndof, :))
          end do
       end function scaled
@@ -457,7 +461,8 @@ contains
       epot = 0.0_rp
       do b = 1, size(bodies)
          if (bodies(b)%motion /= motion_floating) cycle
-         ekin = ekin + 0.5_rp*bodies(b)%mass*sum(bodies(b)%v**2) + rigid_rot_energy(bodies(b)%inertia, bodies(b)%omega)
+         ekin = ekin + 0.5_rp*bodies(b)%mass*sum(bodies(b)%v**2) + &
+                rigid_rot_energy(rigid_world_inertia(bodies(b)%inertia, bodies(b)%pose, bodies(b)%pose_start), bodies(b)%omega)
          epot = epot + bodies(b)%mass*bodies(b)%g*bodies(b)%pose%c(ndim)
       end do
    end subroutine bodies_energy

@@ -83,7 +83,7 @@ program test_rigid
    end do
    call check_close(rigid_rot_energy(inertia, omega), e_part, 1.0e-13_rp, 'rotational energy of the point masses')
    t = [3.2_rp]
-   alpha = rigid_angular_accel(inertia, t)
+   alpha = rigid_angular_accel(inertia, t, [0.3_rp])
    call check_close(inertia(1, 1)*alpha(1), t(1), 1.0e-14_rp, 'I alpha = t')
 
    call test_summary('test_rigid')
