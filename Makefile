@@ -66,26 +66,30 @@ $(1)/obj $(1)/mod $(1)/tests:
 endef
 # code generated from a list (fypp, installed by make deps): the pair-loop variants
 FYPP := .venv/bin/fypp
+# the space dimensions are set in one place, src/constants.f90 (ndim); the generated code takes them from there
+NDIM := $(shell sed -n 's/^ *integer, parameter :: ndim = \([0-9]\) .*/\1/p' src/constants.f90)
+FYPP_RUN := $(FYPP) -DNDIM=$(NDIM)
 GEN  := build/gen/fluid_variants.inc build/gen/fluid_dispatch.inc build/gen/pre_pairs.inc build/gen/pre_decl.inc \
         build/gen/mdbc_ghosts.inc build/gen/nbr_pairs.inc build/gen/shepard_pairs.inc build/gen/contact_pairs.inc \
         build/gen/particle_decl.inc build/gen/particle_table.inc build/gen/particle_slots.inc
 build/gen/fluid_variants.inc: src/fluid_variants.fypp src/components.fypp src/fluid_pairs.inc src/fluid_pair_body.inc src/stencil.fypp \
                               | build/gen $(FYPP)
-	$(FYPP) -DPART="'loops'" $< $@
+	$(FYPP_RUN) -DPART="'loops'" $< $@
 build/gen/fluid_dispatch.inc: src/fluid_variants.fypp src/components.fypp | build/gen $(FYPP)
-	$(FYPP) -DPART="'dispatch'" $< $@
+	$(FYPP_RUN) -DPART="'dispatch'" $< $@
 build/gen/pre_pairs.inc: src/pre_pairs.fypp src/components.fypp | build/gen $(FYPP)
-	$(FYPP) -DPART="'body'" $< $@
+	$(FYPP_RUN) -DPART="'body'" $< $@
 build/gen/pre_decl.inc: src/pre_pairs.fypp src/components.fypp | build/gen $(FYPP)
-	$(FYPP) -DPART="'decl'" $< $@
+	$(FYPP_RUN) -DPART="'decl'" $< $@
 build/gen/mdbc_ghosts.inc: src/mdbc_ghosts.fypp src/components.fypp | build/gen $(FYPP)
-	$(FYPP) $< $@
+	$(FYPP_RUN) $< $@
 # the passes over the one traversal of pairs, src/stencil.fypp
 build/gen/nbr_pairs.inc build/gen/shepard_pairs.inc build/gen/contact_pairs.inc: build/gen/%.inc: src/%.fypp \
                                                                                 src/stencil.fypp | build/gen $(FYPP)
-	$(FYPP) $< $@
+	$(FYPP_RUN) $< $@
 build/gen/particle_%.inc: src/particle_fields.fypp | build/gen $(FYPP)
-	$(FYPP) -DPART="'$*'" $< $@
+	$(FYPP_RUN) -DPART="'$*'" $< $@
+$(GEN): src/constants.f90
 $(FYPP):
 	@bash tools/deps.sh
 build/gen:

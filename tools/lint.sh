@@ -51,15 +51,17 @@ if ((${#@} == 0)); then
     trap 'rm -rf "$expanded"' EXIT
     # the generated fragments as make writes them (Makefile: GEN)
     mkdir -p "$expanded/gen"
-    .venv/bin/fypp -DPART="'loops'" src/fluid_variants.fypp "$expanded/gen/fluid_variants.inc"
-    .venv/bin/fypp -DPART="'dispatch'" src/fluid_variants.fypp "$expanded/gen/fluid_dispatch.inc"
-    .venv/bin/fypp -DPART="'body'" src/pre_pairs.fypp "$expanded/gen/pre_pairs.inc"
-    .venv/bin/fypp -DPART="'decl'" src/pre_pairs.fypp "$expanded/gen/pre_decl.inc"
+    ndim=$(sed -n 's/^ *integer, parameter :: ndim = \([0-9]\) .*/\1/p' src/constants.f90)
+    fypp() { .venv/bin/fypp -DNDIM="$ndim" "$@"; }
+    fypp -DPART="'loops'" src/fluid_variants.fypp "$expanded/gen/fluid_variants.inc"
+    fypp -DPART="'dispatch'" src/fluid_variants.fypp "$expanded/gen/fluid_dispatch.inc"
+    fypp -DPART="'body'" src/pre_pairs.fypp "$expanded/gen/pre_pairs.inc"
+    fypp -DPART="'decl'" src/pre_pairs.fypp "$expanded/gen/pre_decl.inc"
     for f in mdbc_ghosts nbr_pairs shepard_pairs contact_pairs; do
-        .venv/bin/fypp "src/$f.fypp" "$expanded/gen/$f.inc"
+        fypp "src/$f.fypp" "$expanded/gen/$f.inc"
     done
     for part in decl table slots; do
-        .venv/bin/fypp -DPART="'$part'" src/particle_fields.fypp "$expanded/gen/particle_$part.inc"
+        fypp -DPART="'$part'" src/particle_fields.fypp "$expanded/gen/particle_$part.inc"
     done
     for f in src/*.F90; do
         if ! gfortran -E -cpp -P -Isrc -I"$expanded/gen" "$f" > "$expanded/$(basename "${f%.F90}").f90"; then
