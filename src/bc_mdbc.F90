@@ -49,6 +49,9 @@ module bc_mdbc
       integer :: ni = 0, ne = 0
       integer, allocatable :: ii(:), ie(:)
       real(rp), allocatable :: xi(:, :), xe(:, :), s(:, :)
+      !> the mass each water particle lends the interpolated density: its own, or in
+      !> the pores m / n, so that the solids take the pore water's density rho_s / n
+      real(rp), allocatable :: mw(:)
    end type mdbc_work_t
 
 contains
@@ -62,13 +65,17 @@ contains
    !> makes them). On several ranks the ghost points whose support reaches
    !> into a neighbour's slab are left in md%ie, md%xe for the step to sum
    !> over every rank (mdbc_sums, mdbc_finish); on one rank there are none.
-   subroutine mdbc_update(prm, g, p, vol, vb, md)
+   !> With porous regions nf(1, :) is each particle's porosity (porous_field):
+   !> a solid among the stones takes the density of the pore water, rho_s / n,
+   !> which is what the pair loops take a solid's density for there.
+   subroutine mdbc_update(prm, g, p, vol, vb, md, nf)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(inout) :: p
       real(rp), intent(inout) :: vol(:)
       real(rp), intent(inout) :: vb(:, :)
       type(mdbc_work_t), intent(inout) :: md
+      real(rp), intent(in), optional :: nf(:, :)
       integer :: i, kx
       logical :: left, right
       ! the water's volumes once, not a division per pair (vol is the
@@ -76,6 +83,14 @@ contains
       do i = 1, p%n
          vol(i) = p%mass(i)/p%rho(i)
       end do
+      call ensure_mass(md, size(p%rho))
+      if (present(nf)) then
+         do i = 1, p%n
+            md%mw(i) = p%mass(i)/nf(1, i)
+         end do
+      else
+         md%mw(1:p%n) = p%mass(1:p%n)
+      end if
       if (prm%slip /= slip_wall) vb(:, 1:p%n) = p%v(:, 1:p%n)
       call ensure_lists(md, p%n_own)
       call grid_neighbours(g, left, right)
@@ -95,7 +110,7 @@ contains
             md%xi(:, md%ni) = p%x(:, i) + p%gof(:, i)
          end if
       end do
-      call mdbc_sums(prm, g, p, vol, md%xi(:, 1:md%ni), md%s(:, 1:md%ni))
+      call mdbc_sums(prm, g, p, vol, md%mw, md%xi(:, 1:md%ni), md%s(:, 1:md%ni))
       call mdbc_finish(prm, p, md%ii(1:md%ni), md%s(:, 1:md%ni), vb)
    end subroutine mdbc_update
 
@@ -114,14 +129,29 @@ contains
       call alloc_check(ist, emsg, 'the ghost point lists of mdbc_update', n)
    end subroutine ensure_lists
 
+   !> The mass weights md%mw for a store of n slots.
+   subroutine ensure_mass(md, n)
+      type(mdbc_work_t), intent(inout) :: md
+      integer, intent(in) :: n
+      integer :: ist
+      character(len=200) :: emsg
+      if (allocated(md%mw)) then
+         if (size(md%mw) >= n) return
+         deallocate (md%mw)
+      end if
+      allocate (md%mw(n), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the mass weights of mdbc_update', n)
+   end subroutine ensure_mass
+
    !> s(:, k): the sums of the water this rank owns around ghost point xg(:, k)
-   !> (packed as mdbc_nsum numbers); the kernel and whether velocities are
+   !> (packed as mdbc_nsum numbers), with the volumes vol and the mass weights
+   !> mw (mdbc_update) of the water; the kernel and whether velocities are
    !> summed are chosen here, once for the list.
-   subroutine mdbc_sums(prm, g, p, vol, xg, s)
+   subroutine mdbc_sums(prm, g, p, vol, mw, xg, s)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(in) :: p
-      real(rp), intent(in) :: vol(:)
+      real(rp), intent(in) :: vol(:), mw(:)
       real(rp), intent(in) :: xg(:, :)
       real(rp), intent(out) :: s(:, :)
       if (prm%kernel /= kernel_cubic .and. prm%kernel /= kernel_wendland) then
@@ -129,14 +159,14 @@ contains
       end if
       if (prm%slip /= slip_wall) then
          if (prm%kernel == kernel_cubic) then
-            call ghosts_cubic_v(prm, g, p, vol, xg, s)
+            call ghosts_cubic_v(prm, g, p, vol, mw, xg, s)
          else
-            call ghosts_wendland_v(prm, g, p, vol, xg, s)
+            call ghosts_wendland_v(prm, g, p, vol, mw, xg, s)
          end if
       else if (prm%kernel == kernel_cubic) then
-         call ghosts_cubic(prm, g, p, vol, xg, s)
+         call ghosts_cubic(prm, g, p, vol, mw, xg, s)
       else
-         call ghosts_wendland(prm, g, p, vol, xg, s)
+         call ghosts_wendland(prm, g, p, vol, mw, xg, s)
       end if
    end subroutine mdbc_sums
 

@@ -24,7 +24,8 @@ module fluid_forces
    use bc_mdbc, only: mdbc_work_t
    implicit none
    private
-   public :: forces_work_t, forces_init, forces_ensure, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last
+   public :: forces_work_t, forces_init, forces_ensure, forces_porosity, forces_prepare, forces_sweep, forces_sweep_first, &
+             forces_sweep_last
 
    !> constants of the repulsive boundary handed to the pair loops: A's two
    !> factors, q0, 40/c0, the still-water level, 1/h_swl, dp
@@ -211,13 +212,25 @@ contains
       call alloc_check(ist, emsg, 'w%sh, w%rt in forces_ensure')
    end subroutine forces_ensure
 
+   !> With porous regions, the first thing an evaluation needs: the porosity
+   !> field of the particles where they are now, into w%por (the mDBC's
+   !> density of the pore water, then forces_prepare and the pairs read it).
+   subroutine forces_porosity(prm, por, p, w)
+      type(params_t), intent(in) :: prm
+      type(porous_t), intent(in) :: por
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(inout) :: w
+      call forces_ensure(w, size(p%rho), prm)
+      call porous_field(por, p%n, p%x, p%kind, w%por)
+   end subroutine forces_porosity
+
    !> What a force evaluation needs before its pairs: pressure and sound
    !> speed from density, 1/rho and volumes, the density of the diffusion
    !> term; the sums the pairs add to (rates, and the sums of a pass before
-   !> the forces) start from zero.
-   subroutine forces_prepare(prm, por, p, w)
+   !> the forces) start from zero. With porous regions the porosity field of
+   !> this evaluation must be in w%por (forces_porosity).
+   subroutine forces_prepare(prm, p, w)
       type(params_t), intent(in) :: prm
-      type(porous_t), intent(in) :: por
       type(particles_t), intent(inout) :: p
       type(forces_work_t), intent(inout) :: w
       integer :: i, n
@@ -227,7 +240,6 @@ contains
          ! pressure and the diffusion's density from the density of the pore
          ! water, rho / n (irho holds it until it gets its own values below);
          ! the pair loop reads each particle's porosity, walls and bodies too
-         call porous_field(por, n, p%x, p%kind, w%por)
          do i = 1, n
             w%irho(i) = p%rho(i)
             if (p%kind(i) == kind_fluid) w%irho(i) = p%rho(i)/w%por(1, i)

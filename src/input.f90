@@ -115,8 +115,6 @@ contains
       if (size(c%bodies) > 0 .and. c%contact%model_id == model_dynamic) call input_error(c%file, 'contact', 'model', &
          "'dynamic' acts through the solids' own density, which boundary = 'mdbc' takes from the water: use "// &
          "'noncohesive_spring', 'noncohesive', 'repulsive' or 'hertz'")
-      if (size(c%porous) > 0) call input_error(c%file, 'numerics', 'boundary', &
-         "'mdbc' does not work with porous regions (&porous, &breakwater core = 'porous') yet: use 'dynamic'")
    end subroutine check_mdbc
 
    !> A filter is massless to the water: it stops bodies through their

@@ -12,7 +12,8 @@ module step
                      bnd_mdbc, shift_none, slip_wall
    use grid, only: grid_t
    use particles, only: particles_t
-   use fluid_forces, only: forces_work_t, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last, forces_ensure
+   use fluid_forces, only: forces_work_t, forces_porosity, forces_prepare, forces_sweep, forces_sweep_first, forces_sweep_last, &
+                           forces_ensure
    use bc_mdbc, only: mdbc_update, mdbc_rates, mdbc_sums, mdbc_finish, mdbc_nsum
    use shifting, only: shifting_apply
    use bc_motion, only: walls_t, motion_apply
@@ -135,10 +136,15 @@ contains
       type(contact_t), intent(inout) :: ct
       real(rp), allocatable :: sums(:)
       call timer_start(t_pairs)
+      if (prm%porous) call forces_porosity(prm, por, p, w)
       if (prm%boundary == bnd_mdbc) then
          ! the solids' densities (and slip velocities) from the water at their ghost points
          call forces_ensure(w, size(p%rho), prm)
-         call mdbc_update(prm, g, p, w%vol, w%vb, w%md)
+         if (prm%porous) then
+            call mdbc_update(prm, g, p, w%vol, w%vb, w%md, w%por)
+         else
+            call mdbc_update(prm, g, p, w%vol, w%vb, w%md)
+         end if
          if (comm_size() > 1) then
             call mdbc_edges(prm, g, p, w)
             ! the halo's copies of the solids take their owners' values
@@ -146,7 +152,7 @@ contains
             if (prm%slip /= slip_wall) call comm_halo_forward(halo, w%vb, p%n_own)
          end if
       end if
-      call forces_prepare(prm, por, p, w)
+      call forces_prepare(prm, p, w)
       call forces_sweep(prm, g, p, w)
       ! the contacts need positions only: here, before the first exchange, the
       ! slab holding the armour does them while the others still sum water pairs
@@ -232,7 +238,7 @@ contains
       call comm_allgatherv(reshape(w%md%xe(:, 1:ne), [ndim*ne]), xall)
       allocate (s(mdbc_nsum, n_all), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, "the ghost points' sums in mdbc_edges", n_all)
-      call mdbc_sums(prm, g, p, w%vol, reshape(xall, [ndim, n_all]), s)
+      call mdbc_sums(prm, g, p, w%vol, w%md%mw, reshape(xall, [ndim, n_all]), s)
       flat = reshape(s, [mdbc_nsum*n_all])
       call comm_sum(flat)
       s = reshape(flat, [mdbc_nsum, n_all])

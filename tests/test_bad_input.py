@@ -220,10 +220,8 @@ CASES: dict[str, Bad] = {
     "porous_with_shifting": Bad(edit("cfl = 0.2", "cfl = 0.2, shifting = 'fickian'")
                                 + POROUS.format("porosity = 0.4, d50 = 0.05"), "numerics", "shifting",
                                 choices=("none",), words=("porous",)),
-    # the modified dynamic boundary: not yet with the pores' terms, nor with a contact
-    # model that acts through the solids' own density
-    "mdbc_with_porous": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'mdbc'") + POROUS.format("porosity = 0.4, d50 = 0.05"),
-                            "numerics", "boundary", choices=("dynamic",), words=("porous",)),
+    # the modified dynamic boundary: not with a contact model that acts through the solids'
+    # own density, nor with walls too thin for its ghost points
     "mdbc_thin_wall": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'mdbc'")
                           + "&box role = 'solid', xmin = 0.12, xmax = 0.14, ymin = 0.0, ymax = 0.2 /\n",
                           "numerics", "boundary", choices=("dynamic",), words=("thick", "&box #3")),

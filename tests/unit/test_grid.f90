@@ -23,14 +23,12 @@ program test_grid
    use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw, kernel_f
    use nbr_list, only: nbr_t, nbr_build
    use fluid_forces, only: forces_work_t, forces_init, forces_prepare, forces_sweep, forces_sweep_last
-   use porous, only: porous_t
    use testing, only: check, check_close, test_summary, random_seed_fixed
    implicit none
    integer, parameter :: n = 900
    type(grid_t) :: g
    type(params_t) :: prm
    type(forces_work_t) :: w, ws
-   type(porous_t) :: por   ! none: the tests' scenes have no porous regions
    type(nbr_t) :: nb
    logical(lk), allocatable :: drop(:)
    real(rp) :: h, r(2), d(2), gw(2), dr, a(2), err_d, err_a, scale_d, scale_a, pij, err_f
@@ -148,13 +146,13 @@ program test_grid
       prm%diffusion = diff_none; prm%kgc = kgc_none; prm%integrator = integ_symplectic
       prm%shift = shift_none
       call forces_init(w, prm)
-      call forces_prepare(prm, por, p, w)
+      call forces_prepare(prm, p, w)
       call forces_sweep(prm, g, p, w)
       call forces_sweep_last(prm, g, p, w)
       prm%shift = shift_fickian
       call forces_init(ws, prm)
       ws%shift_now = .true.             ! the step sets it for the evaluation it shifts by
-      call forces_prepare(prm, por, p, ws)
+      call forces_prepare(prm, p, ws)
       call forces_sweep(prm, g, p, ws)
       call forces_sweep_last(prm, g, p, ws)
       err_d = 0.0_rp; err_a = 0.0_rp; scale_d = 0.0_rp; scale_a = 0.0_rp
