@@ -79,7 +79,7 @@ contains
          r(ndim, ndim) = cs
       else
          m = matmul(quat_matrix(now%q), transpose(quat_matrix(ref%q)))
-         r = unpad_matrix(m)
+         r = unpad_block(m, ndim)
       end if
    end function rigid_rotation
 
@@ -152,7 +152,7 @@ contains
       else
          rm = pad_matrix(rigid_rotation(now, ref))
          m = matmul(rm, matmul(pad_matrix(inertia), transpose(rm)))
-         iw = unpad_rot(m)
+         iw = unpad_block(m, nrot)
       end if
    end function rigid_world_inertia
 
@@ -163,7 +163,7 @@ contains
       if (ndim == 2) then
          iinv = 1.0_rp/inertia
       else
-         iinv = unpad_rot(inverse3(pad_matrix(inertia)))
+         iinv = unpad_block(inverse3(pad_matrix(inertia)), nrot)
       end if
    end function rigid_inertia_inverse
 
@@ -267,29 +267,18 @@ contains
       end do
    end function pad_matrix
 
-   !> The top left ndim x ndim block of a 3 x 3 matrix.
-   pure function unpad_matrix(m) result(a)
+   !> The top left n x n block of a 3 x 3 matrix (n = ndim or nrot).
+   pure function unpad_block(m, n) result(a)
       real(rp), intent(in) :: m(3, 3)
-      real(rp) :: a(ndim, ndim)
+      integer, intent(in) :: n
+      real(rp) :: a(n, n)
       integer :: k, l
-      do l = 1, ndim
-         do k = 1, ndim
+      do l = 1, n
+         do k = 1, n
             a(k, l) = m(k, l)
          end do
       end do
-   end function unpad_matrix
-
-   !> The top left nrot x nrot block of a 3 x 3 matrix.
-   pure function unpad_rot(m) result(a)
-      real(rp), intent(in) :: m(3, 3)
-      real(rp) :: a(nrot, nrot)
-      integer :: k, l
-      do l = 1, nrot
-         do k = 1, nrot
-            a(k, l) = m(k, l)
-         end do
-      end do
-   end function unpad_rot
+   end function unpad_block
 
    pure function cross3(a, b) result(c)
       real(rp), intent(in) :: a(3), b(3)
