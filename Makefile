@@ -19,7 +19,9 @@ WARN      = -std=f2008 -Wall -Wextra -fimplicit-none
 # -flto: the pair loops call the grid's small functions (grid_ranges) and the
 # step the integrators' loops across modules; link-time optimisation inlines
 # them (4 % on both bench cases, doc/performance.md)
-OPT_release = -O3 $(ARCH) -flto=auto
+# no inlining of a function called once: link-time optimisation otherwise inlines the pair
+# list's builder into the step, 1.2x slower on the breakwater (doc/performance.md)
+OPT_release = -O3 $(ARCH) -flto=auto -fno-inline-functions-called-once
 OPT_debug   = -g -O0 -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktrace
 PYTHON    = .venv/bin/python
 # the specialised pair loops share one interface; each variant leaves the
