@@ -37,21 +37,17 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: all debug deps test wave-heights unit unit-debug unit-3d run dambreak breakwater breakwater_core porous_waves lint bench bench-mpi bench-effects clean figures paper stability study porous damage
+.PHONY: mbsph3d all debug deps test wave-heights unit unit-debug unit-3d run dambreak breakwater breakwater_core porous_waves lint bench bench-mpi bench-effects clean figures paper stability study porous damage
 all: build/mbsph
 debug: build/debug/mbsph
 
-define variant # $(1)=build dir, $(2)=flags
+define variant # $(1)=build dir, $(2)=flags, $(3)=directory of the generated code (its dimension)
 $(1)/obj/%.o: src/%.f90 | $(1)/obj $(1)/mod
 	$$(FC) $(2) -I$$(HDF5_INC) -Isrc -J$(1)/mod $$(XFLAGS_$$*) -c $$< -o $$@
 $(1)/obj/%.o: src/%.F90 | $(1)/obj $(1)/mod
-	$$(FC) $(2) -I$$(HDF5_INC) -Isrc -Ibuild/gen -J$(1)/mod $$(XFLAGS_$$*) -c $$< -o $$@
-$(1)/obj/fluid_forces.o: $(GEN)
-$(1)/obj/kernel_correction.o: $(GEN)
-$(1)/obj/bc_mdbc.o: $(GEN)
-$(1)/obj/particles.o: $(GEN)
-$(1)/obj/nbr_list.o: $(GEN)
-$(1)/obj/contact.o: $(GEN)
+	$$(FC) $(2) -I$$(HDF5_INC) -Isrc -I$(3) -J$(1)/mod $$(XFLAGS_$$*) -c $$< -o $$@
+$(addprefix $(1)/obj/,fluid_forces.o kernel_correction.o bc_mdbc.o particles.o nbr_list.o contact.o): \
+  $(addprefix $(3)/,$(addsuffix .inc,$(GEN_NAMES)))
 $(1)/mbsph: $(addprefix $(1)/obj/,$(addsuffix .o,$(NAMES)))
 	$$(FC) $(2) -o $$@ $$^ $$(LIBS)
 $(1)/obj/testing.o: tests/unit/testing.f90 | $(1)/obj $(1)/mod
@@ -62,44 +58,60 @@ $(1)/tests/%: tests/unit/%.f90 $(1)/obj/testing.o $(addprefix $(1)/obj/,$(addsuf
 $(1)/jonswap_signal: tools/jonswap_signal.f90 $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) | $(1)/tests
 	$$(FC) $(2) -I$(1)/mod -J$(1)/tests -o $$@ $$< $(addprefix $(1)/obj/,$(addsuffix .o,$(LIBNAMES))) $$(LIBS)
 $(1)/deps.mk: $(SRC) tools/fdeps.sh | $(1)/obj
-	tools/fdeps.sh $(1)/obj $(SRC) > $$@
+	GENDIR=$(3) tools/fdeps.sh $(1)/obj $(SRC) > $$@
 $(1)/obj $(1)/mod $(1)/tests:
 	mkdir -p $$@
 endef
 # code generated from a list (fypp, installed by make deps): the pair-loop variants
 FYPP := .venv/bin/fypp
-# the space dimensions are set in one place, src/constants.f90 (ndim); the generated code takes them from there
+# the space dimensions are set in one place, src/constants.f90 (ndim); the generated code takes them
+# from there. The 3D build (build/mbsph3d) compiles the same sources with ndim = 3 in a copy of it.
 NDIM := $(shell sed -n 's/^ *integer, parameter :: ndim = \([0-9]\) .*/\1/p' src/constants.f90)
-FYPP_RUN := $(FYPP) -DNDIM=$(NDIM)
-GEN  := build/gen/fluid_variants.inc build/gen/fluid_dispatch.inc build/gen/pre_pairs.inc build/gen/pre_decl.inc \
-        build/gen/mdbc_ghosts.inc build/gen/nbr_pairs.inc build/gen/shepard_pairs.inc build/gen/contact_pairs.inc \
-        build/gen/particle_decl.inc build/gen/particle_table.inc build/gen/particle_slots.inc
-build/gen/fluid_variants.inc: src/fluid_variants.fypp src/components.fypp src/fluid_pairs.inc src/fluid_pair_body.inc src/stencil.fypp \
-                              | build/gen $(FYPP)
-	$(FYPP_RUN) -DPART="'loops'" $< $@
-build/gen/fluid_dispatch.inc: src/fluid_variants.fypp src/components.fypp | build/gen $(FYPP)
-	$(FYPP_RUN) -DPART="'dispatch'" $< $@
-build/gen/pre_pairs.inc: src/pre_pairs.fypp src/components.fypp | build/gen $(FYPP)
-	$(FYPP_RUN) -DPART="'body'" $< $@
-build/gen/pre_decl.inc: src/pre_pairs.fypp src/components.fypp | build/gen $(FYPP)
-	$(FYPP_RUN) -DPART="'decl'" $< $@
-build/gen/mdbc_ghosts.inc: src/mdbc_ghosts.fypp src/components.fypp | build/gen $(FYPP)
-	$(FYPP_RUN) $< $@
+GEN_NAMES := fluid_variants fluid_dispatch pre_pairs pre_decl mdbc_ghosts nbr_pairs shepard_pairs contact_pairs \
+             particle_decl particle_table particle_slots
+define gen_rules # $(1)=directory of the generated code, $(2)=its space dimensions
+$(1)/fluid_variants.inc: src/fluid_variants.fypp src/components.fypp src/fluid_pairs.inc src/fluid_pair_body.inc \
+                         src/stencil.fypp src/constants.f90 | $(1) $(FYPP)
+	$(FYPP) -DNDIM=$(2) -DPART="'loops'" $$< $$@
+$(1)/fluid_dispatch.inc: src/fluid_variants.fypp src/components.fypp src/constants.f90 | $(1) $(FYPP)
+	$(FYPP) -DNDIM=$(2) -DPART="'dispatch'" $$< $$@
+$(1)/pre_pairs.inc: src/pre_pairs.fypp src/components.fypp src/constants.f90 | $(1) $(FYPP)
+	$(FYPP) -DNDIM=$(2) -DPART="'body'" $$< $$@
+$(1)/pre_decl.inc: src/pre_pairs.fypp src/components.fypp src/constants.f90 | $(1) $(FYPP)
+	$(FYPP) -DNDIM=$(2) -DPART="'decl'" $$< $$@
+$(1)/mdbc_ghosts.inc: src/mdbc_ghosts.fypp src/components.fypp src/constants.f90 | $(1) $(FYPP)
+	$(FYPP) -DNDIM=$(2) $$< $$@
 # the passes over the one traversal of pairs, src/stencil.fypp
-build/gen/nbr_pairs.inc build/gen/shepard_pairs.inc build/gen/contact_pairs.inc: build/gen/%.inc: src/%.fypp \
-                                                                                src/stencil.fypp | build/gen $(FYPP)
-	$(FYPP_RUN) $< $@
-build/gen/particle_%.inc: src/particle_fields.fypp | build/gen $(FYPP)
-	$(FYPP_RUN) -DPART="'$*'" $< $@
-$(GEN): src/constants.f90
+$(1)/nbr_pairs.inc $(1)/shepard_pairs.inc $(1)/contact_pairs.inc: $(1)/%.inc: src/%.fypp src/stencil.fypp \
+                                                                  src/constants.f90 | $(1) $(FYPP)
+	$(FYPP) -DNDIM=$(2) $$< $$@
+$(1)/particle_%.inc: src/particle_fields.fypp src/constants.f90 | $(1) $(FYPP)
+	$(FYPP) -DNDIM=$(2) -DPART="'$$*'" $$< $$@
+$(1):
+	mkdir -p $$@
+endef
+$(eval $(call gen_rules,build/gen,$(NDIM)))
+$(eval $(call gen_rules,build/3d/gen,3))
 $(FYPP):
 	@bash tools/deps.sh
-build/gen:
-	mkdir -p $@
 
-$(eval $(call variant,build,$(WARN) $(OPT_release)))
-$(eval $(call variant,build/debug,$(WARN) $(OPT_debug)))
--include build/deps.mk build/debug/deps.mk
+$(eval $(call variant,build,$(WARN) $(OPT_release),build/gen))
+$(eval $(call variant,build/debug,$(WARN) $(OPT_debug),build/gen))
+# the 3D solver: the same sources, constants with ndim = 3 (doc/3d.md)
+$(eval $(call variant,build/3d,$(WARN) $(OPT_release),build/3d/gen))
+$(eval $(call variant,build/3d/debug,$(WARN) $(OPT_debug),build/3d/gen))
+build/3d/src/constants.f90: src/constants.f90
+	mkdir -p build/3d/src
+	sed 's/integer, parameter :: ndim = 2 /integer, parameter :: ndim = 3 /' $< > $@
+	grep -q 'ndim = 3 ' $@
+build/3d/obj/constants.o: build/3d/src/constants.f90 | build/3d/obj build/3d/mod
+	$(FC) $(WARN) $(OPT_release) -Jbuild/3d/mod -c build/3d/src/constants.f90 -o $@
+build/3d/debug/obj/constants.o: build/3d/src/constants.f90 | build/3d/debug/obj build/3d/debug/mod
+	$(FC) $(WARN) $(OPT_debug) -Jbuild/3d/debug/mod -c build/3d/src/constants.f90 -o $@
+build/mbsph3d: build/3d/mbsph
+	cp $< $@
+mbsph3d: build/mbsph3d
+-include build/deps.mk build/debug/deps.mk build/3d/deps.mk build/3d/debug/deps.mk
 
 deps:
 	@bash tools/deps.sh
@@ -110,19 +122,16 @@ unit: build/mbsph build/jonswap_signal $(addprefix build/tests/,$(UNIT))
 unit-debug: build/debug/mbsph $(addprefix build/debug/tests/,$(UNIT)) unit-3d
 	@fail=0; for t in $(UNIT); do build/debug/tests/$$t || fail=1; done; exit $$fail
 
-# the 3D forms of the dimension-generic modules (rigid, tensor), run in a 3D build of them:
-# constants with ndim = 3 (generated from src/constants.f90), the modules as they are, their
-# tests (test_tensor as it is; tests/unit3d/test_rigid3d for the 3D rigid body), debug checks on
-T3D_MODS := src/kinds.f90 build/t3d/constants.f90 src/tensor.f90 src/rigid.f90 tests/unit/testing.f90
-build/t3d/constants.f90: src/constants.f90
-	mkdir -p build/t3d
-	sed 's/integer, parameter :: ndim = 2 /integer, parameter :: ndim = 3 /' $< > $@
-	grep -q 'ndim = 3 ' $@
-build/t3d/test_%: $(T3D_MODS) tests/unit3d/test_%.f90
-	cd build/t3d && $(FC) $(WARN) $(OPT_debug) -J. $(addprefix $(CURDIR)/,$^) -o $(notdir $@)
-build/t3d/test_tensor: $(T3D_MODS) tests/unit/test_tensor.f90
-	cd build/t3d && $(FC) $(WARN) $(OPT_debug) -J. $(addprefix $(CURDIR)/,$^) -o $(notdir $@)
-unit-3d: build/t3d/test_tensor build/t3d/test_rigid3d
+# the unit tests that hold in any dimension, and tests/unit3d (the 3D rigid body), run in the
+# 3D build of the solver's modules (build/3d/debug, debug checks on)
+UNIT_3D := test_kernel test_tensor
+UNIT3D_SRC := $(sort $(wildcard tests/unit3d/test_*.f90))
+build/3d/debug/tests/%: tests/unit3d/%.f90 build/3d/debug/obj/testing.o \
+  $(addprefix build/3d/debug/obj/,$(addsuffix .o,$(LIBNAMES))) | build/3d/debug/tests
+	$(FC) $(WARN) $(OPT_debug) -Ibuild/3d/debug/mod -Jbuild/3d/debug/tests -o $@ $< build/3d/debug/obj/testing.o \
+	  $(addprefix build/3d/debug/obj/,$(addsuffix .o,$(LIBNAMES))) $(LIBS)
+UNIT_3D_BIN := $(addprefix build/3d/debug/tests/,$(UNIT_3D) $(basename $(notdir $(UNIT3D_SRC))))
+unit-3d: $(UNIT_3D_BIN)
 	@fail=0; for t in $^; do $$t || fail=1; done; exit $$fail
 
 # the whole suite: unit tests on the release and the debug build, then the

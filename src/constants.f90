@@ -3,12 +3,16 @@ module constants
    use kinds, only: rp
    implicit none
    private
-   public :: pi, ndim, nsym, kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, kind_name, &
+   public :: pi, ndim, nsym, nsec, iup, kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, kind_name, &
              name_len, path_len, msg_len
 
    real(rp), parameter :: pi = 3.14159265358979323846_rp
    integer, parameter :: ndim = 2            !< space dimensions; arrays are shaped (ndim, n)
    integer, parameter :: nsym = ndim*(ndim + 1)/2   !< components of a symmetric tensor (xx, xy, yy in 2D)
+   !> the vertical section's dimensions (x along the flume, y up); outlines, slopes and porous
+   !> regions are drawn in it, and a 3D scene extrudes them across its width (z)
+   integer, parameter :: nsec = 2
+   integer, parameter :: iup = 2             !< the vertical axis (y), gravity along -y in 2D and 3D
 
    ! particle kinds: the integer stored per particle and in the snapshots
    integer, parameter :: kind_fluid = 1

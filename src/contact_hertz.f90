@@ -163,7 +163,7 @@ contains
          call pair_viscous(ct, bodies, p, i, j, bi, bj, gn, n)
          ct%dt_limit = min(ct%dt_limit, 0.2_rp*sqrt(mc/(1.5_rp*kn*ct%kw(k))))
          call pair_force(bodies, p, i, j, bi, bj, fn*n, .true.)
-         call pair_friction(ct, bodies, p, i, j, bi, bj, n, fn, vij, [0.0_rp, 0.0_rp])
+         call pair_friction(ct, bodies, p, i, j, bi, bj, n, fn, vij, spread(0.0_rp, 1, ndim))
       end do
    end subroutine hertz_apply
 

@@ -1,4 +1,4 @@
-!> SPH kernels in 2D: Wendland C2 and cubic spline, with support 2h.
+!> SPH kernels in 2D and 3D (ndim): Wendland C2 and cubic spline, with support 2h.
 !> The formulas themselves are in kernel_formulas.inc, shared with the pair loops.
 module kernel
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
@@ -14,16 +14,17 @@ contains
 ! allow(bad-quote-string): cpp needs a double-quoted file name in #include
 #include "kernel_formulas.inc"
 
-   !> 2D normalisation aw (W = aw w(q)).
+   !> Normalisation aw (W = aw w(q)) in ndim dimensions, so that W integrates to 1 over
+   !> the plane (2D) or space (3D); Monaghan (1992) for the spline, Wendland (1995) for C2.
    pure real(rp) function kernel_norm(k, h) result(aw)
       integer, intent(in) :: k
       real(rp), intent(in) :: h
       ! (an unknown kernel, which no input can give, makes NaN: pure procedures cannot stop)
       select case (k)
       case (kernel_cubic)
-         aw = 10.0_rp/(7.0_rp*pi*h*h)
+         aw = merge(10.0_rp/(7.0_rp*pi*h*h), 1.0_rp/(pi*h*h*h), ndim == 2)
       case (kernel_wendland)
-         aw = 7.0_rp/(4.0_rp*pi*h*h)
+         aw = merge(7.0_rp/(4.0_rp*pi*h*h), 21.0_rp/(16.0_rp*pi*h*h*h), ndim == 2)
       case default
          aw = ieee_value(aw, ieee_quiet_nan)
       end select

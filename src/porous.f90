@@ -14,7 +14,7 @@
 !> accelerate by 1 + c_A.
 module porous
    use kinds, only: rp
-   use constants, only: kind_fluid, kind_floating, ndim
+   use constants, only: kind_fluid, kind_floating, nsec
    use geom, only: point_in_polygon
    implicit none
    private
@@ -46,9 +46,9 @@ module porous
       ! a grid of cells over the regions (porous_lookup): where a whole cell lies
       ! deep in one region or out of every region's reach, its porous properties
       ! are those of every point in it, and porous_field takes them from here
-      real(rp) :: lo(ndim) = 0.0_rp          !< lower corner of the grid [m]
+      real(rp) :: lo(nsec) = 0.0_rp          !< lower corner of the grid [m]
       real(rp) :: cell = 0.0_rp              !< cell size [m]; 0: no grid
-      integer :: nc(ndim) = 0                !< cells along each axis
+      integer :: nc(nsec) = 0                !< cells along each axis
       integer, allocatable :: code(:, :)     !< 0: compute; -1: out of reach; r: deep in region r
       real(rp), allocatable :: deep(:, :)    !< (n_por, regions): the properties deep in each region
    end type porous_t
@@ -63,7 +63,7 @@ contains
    !> n = 1 - sum s (1 - n_r), and the coefficients take the local n.
    pure function porous_point(por, x) result(f)
       type(porous_t), intent(in) :: por
-      real(rp), intent(in) :: x(ndim)
+      real(rp), intent(in) :: x(nsec)
       real(rp) :: f(n_por)
       real(rp) :: s(max_regions), n, t, d
       integer :: k
@@ -99,9 +99,9 @@ contains
 
    !> Signed distance from x to the outline v (> 0 inside).
    pure real(rp) function signed_distance(x, v) result(d)
-      real(rp), intent(in) :: x(ndim), v(:, :)
+      real(rp), intent(in) :: x(nsec), v(:, :)
       integer :: e, f, nv
-      real(rp) :: a(ndim), w(ndim), t
+      real(rp) :: a(nsec), w(nsec), t
       nv = size(v, 2)
       d = huge(1.0_rp)
       do e = 1, nv
@@ -125,12 +125,12 @@ contains
       integer, intent(in) :: n, kind(:)
       real(rp), intent(in) :: x(:, :)
       real(rp), intent(inout) :: f(:, :)
-      integer :: i, c(ndim), code
+      integer :: i, c(nsec), code
       do i = 1, n
          code = 0
          if (kind(i) == kind_floating) code = -1
          if (por%cell > 0.0_rp .and. code == 0) then
-            c = floor((x(:, i) - por%lo)/por%cell) + 1
+            c = floor((x(1:nsec, i) - por%lo)/por%cell) + 1
             if (any(c < 1) .or. any(c > por%nc)) then
                code = -1
             else
@@ -143,7 +143,7 @@ contains
          else if (code > 0) then
             f(:, i) = por%deep(:, code)
          else
-            f(:, i) = porous_point(por, x(:, i))
+            f(:, i) = porous_point(por, x(1:nsec, i))
          end if
       end do
    end subroutine porous_field
@@ -158,7 +158,7 @@ contains
       type(porous_t), intent(inout) :: por
       real(rp), intent(in) :: cell
       integer :: i, j, code, ist
-      real(rp) :: hi(ndim), c(ndim)
+      real(rp) :: hi(nsec), c(nsec)
       logical :: found(max_regions)
       character(len=200) :: emsg
       if (.not. por%on .or. size(por%r) == 0 .or. cell <= 0.0_rp) return
@@ -195,7 +195,7 @@ contains
    !> reach, 0 otherwise.
    pure integer function cell_code(por, c, half) result(code)
       type(porous_t), intent(in) :: por
-      real(rp), intent(in) :: c(ndim), half
+      real(rp), intent(in) :: c(nsec), half
       integer :: k, deep_in, reached
       real(rp) :: d, w
       deep_in = 0

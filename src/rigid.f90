@@ -18,7 +18,8 @@ module rigid
    private
    public :: pose_t, nrot, ndof, rigid_rotation, rigid_rotate, rigid_point_velocity, rigid_moment, &
              rigid_moment_add, rigid_moment_sub, rigid_angular_accel, rigid_inertia_inverse, rigid_turn, &
-             rigid_angle, rigid_rot_energy, npose, rigid_pose_pack, rigid_pose_unpack, rigid_world_inertia
+             rigid_angle, rigid_rot_energy, npose, rigid_pose_pack, rigid_pose_unpack, rigid_world_inertia, &
+             rigid_set_angle_z
 
    integer, parameter :: nrot = ndim*(ndim - 1)/2   !< rotational degrees of freedom: 1 in 2D, 3 in 3D
    integer, parameter :: ndof = ndim + nrot         !< degrees of freedom of a body
@@ -33,6 +34,15 @@ module rigid
    end type pose_t
 
 contains
+
+   !> Turns a pose to the angle a about z (the axis across a vertical section): the
+   !> angle in 2D, the quaternion (cos a/2, 0, 0, sin a/2) in 3D.
+   pure subroutine rigid_set_angle_z(pose, a)
+      type(pose_t), intent(inout) :: pose
+      real(rp), intent(in) :: a
+      pose%theta = a
+      if (ndim == 3) pose%q = [cos(0.5_rp*a), 0.0_rp, 0.0_rp, sin(0.5_rp*a)]
+   end subroutine rigid_set_angle_z
 
    !> A pose as npose numbers (the checkpoint): the centre, then the orientation.
    pure function rigid_pose_pack(pose) result(v)

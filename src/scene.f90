@@ -2,11 +2,12 @@
 !> layers from the geometry objects; hydrostatic density to start from.
 module scene
    use kinds, only: rp
-   use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter
+   use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, ndim, nsec
    use input, only: case_cfg
    use input_body, only: body_cfg
    use body_shapes, only: body_outline, body_mass_properties, body_particles
    use body_dynamics, only: body_t
+   use rigid, only: rigid_set_angle_z, nrot, ndof
    use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, role_filter, wall_fixed, &
                       integ_verlet, bnd_mdbc
    use input_geometry, only: geom_object
@@ -175,15 +176,17 @@ contains
       call body_particles(bc, dp, layers, xb, nb, surf)
       b%motion = bc%motion_id  ! the values of options: motion_floating, motion_fixed, motion_prescribed
       b%id = id
-      b%pose%theta = bc%angle*deg
+      call rigid_set_angle_z(b%pose, bc%angle*deg)
       b%pose_start = b%pose
       if (b%motion /= motion_fixed) then
-         b%v = [bc%u, bc%v]
-         b%omega = [bc%omega]
+         ! in 3D the body starts moving in the section (x, y) and turning about z
+         b%v = 0.0_rp; b%v(1:nsec) = [bc%u, bc%v]
+         b%omega = 0.0_rp; b%omega(nrot) = bc%omega
       end if
       if (b%motion == motion_prescribed) then
-         b%rate = [bc%u, bc%v, bc%omega]
-         b%amp = [bc%amplitude_x, bc%amplitude_y, bc%amplitude_angle]
+         b%rate = 0.0_rp; b%amp = 0.0_rp
+         b%rate(1:nsec) = [bc%u, bc%v]; b%rate(ndof) = bc%omega
+         b%amp(1:nsec) = [bc%amplitude_x, bc%amplitude_y]; b%amp(ndof) = bc%amplitude_angle
          b%period = bc%period
          b%phase = bc%phase
       end if
@@ -592,6 +595,7 @@ contains
       rc%balance_every = c%run%balance_every
       rc%max_lost_fraction = c%run%max_lost_fraction
       rc%restart = c%run%restart
-      rc%box = [c%domain%xmin, c%domain%xmax, c%domain%ymin, c%domain%ymax]
+      rc%box(1:4) = [c%domain%xmin, c%domain%xmax, c%domain%ymin, c%domain%ymax]
+      if (ndim == 3) rc%box(2*ndim - 1:2*ndim) = [c%domain%zmin, c%domain%zmax]
    end function scene_run
 end module scene

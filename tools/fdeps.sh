@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Writes make dependencies for Fortran sources: one module per file, named
 # after the module, so "use X" in a file means its object needs X.o.
-# Usage: tools/fdeps.sh OBJDIR file...   (prints rules on stdout)
+# Usage: [GENDIR=build/gen] tools/fdeps.sh OBJDIR file...   (prints rules on stdout)
 set -eu
 objdir=$1; shift
 for f in "$@"; do
@@ -25,7 +25,7 @@ for f in "$@"; do
         deps="$deps src/$i"
         src="src/$i"
       else
-        deps="$deps build/gen/$i"
+        deps="$deps ${GENDIR:-build/gen}/$i"
         src=$(ls src/*.fypp 2>/dev/null || true)
       fi
       [ -n "$src" ] || continue
