@@ -22,7 +22,7 @@ module bc_mdbc
    use kinds, only: rp
    use constants, only: kind_fluid, ndim
    use params, only: params_t, slip_wall, slip_noslip, slip_freeslip
-   use grid, only: grid_t, grid_column, grid_neighbours, grid_point_ranges
+   use grid, only: grid_t, grid_column, grid_neighbours, grid_point_ranges, grid_npoint
    use particles, only: particles_t
    use options, only: kernel_cubic, kernel_wendland
    use errors, only: alloc_check, fatal

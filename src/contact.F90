@@ -14,7 +14,7 @@ module contact
    use kinds, only: rp
    use constants, only: kind_fluid, kind_floating, ndim, nsym
    use params, only: params_t
-   use grid, only: grid_t, grid_ranges, grid_last_cell
+   use grid, only: grid_t, grid_ranges, grid_last_cell, grid_nranges
    use particles, only: particles_t
    use body_dynamics, only: body_t, body_of, bodies_damping_reset
    use rigid, only: rigid_point_velocity
@@ -80,7 +80,7 @@ contains
       type(particles_t), intent(in) :: p
       type(body_t), intent(inout) :: bodies(:)
       real(rp), intent(inout) :: drho(:)
-      integer :: i, j, c, r, jlo(2), jhi(2), bi, k
+      integer :: i, j, c, r, jlo(grid_nranges), jhi(grid_nranges), bi, k
       real(rp) :: d(ndim), r2
       do k = 1, size(bodies)
          bodies(k)%f_normal = 0.0_rp; bodies(k)%t_normal = 0.0_rp

@@ -14,7 +14,7 @@ module fluid_forces
    use tensor, only: sym_slot
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive, bnd_mdbc, &
                      slip_wall, shift_none
-   use grid, only: grid_t, grid_ranges, grid_last_cell, grid_neighbours
+   use grid, only: grid_t, grid_ranges, grid_last_cell, grid_neighbours, grid_nranges
    use particles, only: particles_t
    use eos, only: eos_update, eos_dynamic_density
    use nbr_list, only: nbr_t, nbr_build

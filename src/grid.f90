@@ -12,18 +12,34 @@
 !> are each one contiguous index range: the half stencil of a pair loop is two
 !> ranges per particle (grid_ranges). Columns being contiguous, the owned particles come
 !> first and the halo (the last column) after them.
+!> In 3D (ndim = 3) a column is (x, z): each x column of the slab is ncz
+!> columns across the width with an empty ghost column at either side, and
+!> the half stencil is the cells above in the same column, the next column
+!> across (z + 1) and the three of the next x column (z - 1, z, z + 1):
+!> grid_nranges = 5 index ranges against 2 in 2D. The slabs of the ranks stay
+!> slabs along x.
 module grid
    use kinds, only: rp, lk
+   use constants, only: ndim
    use errors, only: alloc_check
    use particles, only: particles_t, particles_permute
    implicit none
    private
    public :: grid_t, grid_neighbours, grid_init, grid_columns, grid_sort, grid_column, &
              grid_first_column_end, &
-             grid_add_halo, grid_ranges, grid_last_cell, grid_point_ranges, grid_line_ranges
+             grid_add_halo, grid_ranges, grid_last_cell, grid_point_ranges, grid_line_ranges, &
+             grid_nranges, grid_npoint
+
+   !> index ranges of a particle's half stencil: 2 in 2D, 5 in 3D
+   integer, parameter :: grid_nranges = merge(2, 5, ndim == 2)
+   !> index ranges around a point or a vertical line: the columns around it, 3 in 2D, 9 in 3D
+   integer, parameter :: grid_npoint = 3**(ndim - 1)
 
    type :: grid_t
       real(rp) :: x0, y0          !< lower-left corner of the domain [m]
+      real(rp) :: z0 = 0.0_rp     !< the domain's side at zmin (3D) [m]
+      integer :: ncz = 1          !< cell columns across the width: 1 in 2D
+      integer :: nzt = 1          !< the same with the ghost column at either side in 3D (ncz + 2); 1 in 2D
       real(rp) :: cs              !< cell width = 2h [m]
       real(rp) :: csy             !< cell height = cs/reach [m]
       real(rp) :: icsy            !< 1/csy [1/m]
@@ -32,10 +48,12 @@ module grid
       integer :: col0             !< first column of this rank's slab (0-based, global)
       integer :: ncol, ncy        !< cell columns of this rank's slab; cell rows
       integer :: ny               !< rows with the ghost rows: ncy + 2 reach
-      integer :: stride           !< index distance of neighbouring columns: ny
-      ! cell (ix, iy) (ix: 0 ghost, 1..ncol slab, ncol+1 halo or ghost; iy: 1..ncy,
-      ! with reach ghost rows below and above) is number ix*ny + iy + reach: see grid_cell_of
-      integer :: ncell            !< nx*ny
+      integer :: stride           !< index distance of neighbouring x columns: nzt ny
+      ! cell (ix, iz, iy) (ix: 0 ghost, 1..ncol slab, ncol+1 halo or ghost; iz: 0 in 2D,
+      ! 0 ghost, 1..ncz, ncz+1 ghost in 3D; iy: 1..ncy, with reach ghost rows below and
+      ! above) is number ix*stride + iz*ny + iy + reach: see grid_cell_of
+      integer :: ncell            !< (ncol + 2) stride
+      integer :: off(grid_nranges - 1)   !< cell distance to the stencil's later columns
       integer, allocatable :: cstart(:)   !< particles of cell c: cstart(c) .. cstart(c+1)-1
       integer, allocatable :: cell(:)     !< cell of each particle (the sort's scratch); after a sort
                                           !< with cells = .true., the cell of each particle slot
@@ -45,12 +63,14 @@ module grid
 contains
 
    !> The grid over the domain, or with col_lo/col_hi over the cell columns
-   !> col_lo .. col_hi-1 (0-based) of the domain: one rank's slab.
-   subroutine grid_init(g, xmin, xmax, ymin, ymax, h, col_lo, col_hi)
+   !> col_lo .. col_hi-1 (0-based) of the domain: one rank's slab. In 3D the
+   !> width zmin .. zmax is required.
+   subroutine grid_init(g, xmin, xmax, ymin, ymax, h, col_lo, col_hi, zmin, zmax)
       type(grid_t), intent(out) :: g
       real(rp), intent(in) :: xmin, xmax, ymin, ymax, h
       integer, intent(in), optional :: col_lo, col_hi
-      integer :: ist
+      real(rp), intent(in), optional :: zmin, zmax
+      integer :: ist, k
       character(len=200) :: emsg
       g%cs = 2.0_rp*h
       g%x0 = xmin
@@ -66,8 +86,24 @@ contains
          g%ncol = col_hi - col_lo
       end if
       g%ny = g%ncy + 2*g%reach
-      g%stride = g%ny
-      g%ncell = (g%ncol + 2)*g%ny
+      if (ndim == 3 .and. present(zmin) .and. present(zmax)) then
+         g%z0 = zmin
+         g%ncz = max(1, ceiling((zmax - zmin)/g%cs))
+         g%nzt = g%ncz + 2
+      end if
+      g%stride = g%nzt*g%ny
+      g%ncell = (g%ncol + 2)*g%stride
+      ! the later columns (dx, dz) of the half stencil: (1, 0) in 2D; (0, 1), (1, -1), (1, 0),
+      ! (1, 1) in 3D
+      do k = 1, grid_nranges - 1
+         if (ndim == 2) then
+            g%off(k) = g%stride
+         else if (k == 1) then
+            g%off(k) = g%ny
+         else
+            g%off(k) = g%stride + (k - 3)*g%ny
+         end if
+      end do
       allocate (g%cstart(g%ncell + 2), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'the cells of the neighbour grid', g%ncell + 2)
    end subroutine grid_init
@@ -89,75 +125,116 @@ contains
       k = min(max(int((x - x0)*(1.0_rp/cs)), 0), ncx_all - 1)
    end function grid_column
 
-   !> Cell number (1-based, ghosts included) of a point of this rank's slab;
+   !> Cell number (1-based, ghosts included) of a point x of this rank's slab;
    !> a point of the next slab's first column falls in the last column.
-   pure integer function grid_cell_of(g, x, y) result(c)
+   pure integer function grid_cell_of(g, x) result(c)
       type(grid_t), intent(in) :: g
-      real(rp), intent(in) :: x, y
+      real(rp), intent(in) :: x(:)
       integer :: ix, iy
-      ix = min(max(grid_column(g%x0, g%cs, g%ncx_all, x) - g%col0 + 1, 1), g%ncol + 1)
-      iy = min(max(int((y - g%y0)*g%icsy) + 1, 1), g%ncy)
-      c = iy + ix*g%ny + g%reach
+      ix = min(max(grid_column(g%x0, g%cs, g%ncx_all, x(1)) - g%col0 + 1, 1), g%ncol + 1)
+      iy = min(max(int((x(2) - g%y0)*g%icsy) + 1, 1), g%ncy)
+      c = iy + ix*g%stride + g%reach + across(g, x)*g%ny
    end function grid_cell_of
+
+   !> The column across the width (1 .. ncz) of the point x in 3D; 0 in 2D.
+   pure integer function across(g, x) result(iz)
+      type(grid_t), intent(in) :: g
+      real(rp), intent(in) :: x(:)
+      iz = 0
+      if (ndim == 3) iz = min(max(int((x(ndim) - g%z0)*(1.0_rp/g%cs)) + 1, 1), g%ncz)
+   end function across
 
    !> The half stencil of particle i of cell c: the later particles of c and
    !> those of the reach cells above it (jlo(1) .. jhi(1)), and those of the
-   !> 2 reach + 1 cells of the next column around c (jlo(2) .. jhi(2)). Ghost
+   !> 2 reach + 1 cells around c's row in each later column of the stencil
+   !> (jlo(r) .. jhi(r), r = 2 .. grid_nranges: the next x column in 2D; in
+   !> 3D the next column across and three of the next x column). Ghost
    !> cells are empty, so no range needs a bounds test. Every pass over the
    !> pairs (the pair list, the force loop, Shepard, contacts) takes its ranges here.
    pure subroutine grid_ranges(g, c, i, jlo, jhi)
       type(grid_t), intent(in) :: g
       integer, intent(in) :: c, i
-      integer, intent(out) :: jlo(2), jhi(2)
+      integer, intent(out) :: jlo(grid_nranges), jhi(grid_nranges)
+      integer :: k
       jlo(1) = i + 1
       jhi(1) = g%cstart(c + g%reach + 1) - 1
-      jlo(2) = g%cstart(c + g%stride - g%reach)
-      jhi(2) = g%cstart(c + g%stride + g%reach + 1) - 1
+      if (ndim == 2) then
+         jlo(ndim) = g%cstart(c + g%stride - g%reach)
+         jhi(ndim) = g%cstart(c + g%stride + g%reach + 1) - 1
+      else
+         do k = 2, grid_nranges
+            jlo(k) = g%cstart(c + g%off(k - 1) - g%reach)
+            jhi(k) = g%cstart(c + g%off(k - 1) + g%reach + 1) - 1
+         end do
+      end if
    end subroutine grid_ranges
 
    !> The particles of this rank's slab around the point x (not the halo):
-   !> three index ranges, one for each of the point's cell column and its two
-   !> neighbours, each the 2 reach + 1 cells around the point's row, so every
-   !> particle within 2h of x is in one of them. A column outside the slab
-   !> gives an empty range (jlo > jhi). The passes around a point (the mDBC
-   !> ghost points) take their candidates here.
+   !> grid_npoint index ranges, one for each of the point's cell column and its
+   !> neighbours (3 in 2D, 3 x 3 in 3D), each the 2 reach + 1 cells around the
+   !> point's row, so every particle within 2h of x is in one of them. A column
+   !> outside the slab gives an empty range (jlo > jhi). The passes around a
+   !> point (the mDBC ghost points) take their candidates here.
    pure subroutine grid_point_ranges(g, x, jlo, jhi)
       type(grid_t), intent(in) :: g
       real(rp), intent(in) :: x(:)
-      integer, intent(out) :: jlo(3), jhi(3)
-      integer :: kx, ix, iy, r, c0
-      kx = grid_column(g%x0, g%cs, g%ncx_all, x(1)) - g%col0 + 1
+      integer, intent(out) :: jlo(grid_npoint), jhi(grid_npoint)
+      integer :: iy, r, c0
+      integer :: cols(grid_npoint)
       iy = min(max(int((x(2) - g%y0)*g%icsy) + 1, 1), g%ncy)
-      do r = 1, 3
-         ix = kx + r - 2
+      call columns_around(g, x, cols)
+      do r = 1, grid_npoint
          jlo(r) = 1
          jhi(r) = 0
-         if (ix < 1 .or. ix > g%ncol) cycle
-         c0 = iy + ix*g%ny
+         if (cols(r) < 0) cycle
+         c0 = iy + cols(r)
          jlo(r) = g%cstart(c0)
          jhi(r) = g%cstart(c0 + 2*g%reach + 1) - 1
       end do
    end subroutine grid_point_ranges
 
    !> The particles of this rank's slab within one cell column of the
-   !> vertical line at abscissa x: the three whole columns around it, one
-   !> index range each, empty where a column is not the slab's (the gauges
-   !> of the water level).
+   !> vertical line through the point x (its height does not matter): the
+   !> whole columns around it (3 in 2D, 3 x 3 in 3D), one index range each,
+   !> empty where a column is not the slab's (the gauges of the water level).
    pure subroutine grid_line_ranges(g, x, jlo, jhi)
       type(grid_t), intent(in) :: g
-      real(rp), intent(in) :: x
-      integer, intent(out) :: jlo(3), jhi(3)
-      integer :: kx, ix, r
-      kx = grid_column(g%x0, g%cs, g%ncx_all, x) - g%col0 + 1
-      do r = 1, 3
-         ix = kx + r - 2
+      real(rp), intent(in) :: x(:)
+      integer, intent(out) :: jlo(grid_npoint), jhi(grid_npoint)
+      integer :: r
+      integer :: cols(grid_npoint)
+      call columns_around(g, x, cols)
+      do r = 1, grid_npoint
          jlo(r) = 1
          jhi(r) = 0
-         if (ix < 1 .or. ix > g%ncol) cycle
-         jlo(r) = g%cstart(ix*g%ny + g%reach + 1)
-         jhi(r) = g%cstart(ix*g%ny + g%reach + g%ncy + 1) - 1
+         if (cols(r) < 0) cycle
+         jlo(r) = g%cstart(cols(r) + g%reach + 1)
+         jhi(r) = g%cstart(cols(r) + g%reach + g%ncy + 1) - 1
       end do
    end subroutine grid_line_ranges
+
+   !> The cell columns around the point x, by their first cell less one (the
+   !> number of row 0), -1 for a column outside the slab: x columns kx - 1 ..
+   !> kx + 1 and, in 3D, across iz - 1 .. iz + 1 (a ghost column across is
+   !> empty and may be given).
+   pure subroutine columns_around(g, x, cols)
+      type(grid_t), intent(in) :: g
+      real(rp), intent(in) :: x(:)
+      integer, intent(out) :: cols(grid_npoint)
+      integer :: kx, iz, ix, a, b, r
+      kx = grid_column(g%x0, g%cs, g%ncx_all, x(1)) - g%col0 + 1
+      iz = across(g, x)
+      r = 0
+      do a = -1, 1
+         ix = kx + a
+         do b = -(ndim - 2), ndim - 2
+            r = r + 1
+            cols(r) = -1
+            if (ix < 1 .or. ix > g%ncol) cycle
+            cols(r) = ix*g%stride + (iz + b)*g%ny
+         end do
+      end do
+   end subroutine columns_around
 
    !> The last cell whose particles start stencils: the cells after it (the last
    !> column, the halo or an empty ghost column) only end them.
@@ -192,7 +269,7 @@ contains
          if (drop(i)) then
             c = g%ncell + 1
          else
-            c = grid_cell_of(g, p%x(1, i), p%x(2, i))
+            c = grid_cell_of(g, p%x(:, i))
          end if
          g%cell(i) = c
          g%cstart(c + 1) = g%cstart(c + 1) + 1
@@ -229,7 +306,7 @@ contains
    !> ghost column on the left is empty); returns k.
    integer function grid_first_column_end(g) result(k)
       type(grid_t), intent(in) :: g
-      k = g%cstart(2*g%ny + 1) - 1
+      k = g%cstart(2*g%stride + 1) - 1
    end function grid_first_column_end
 
    !> Particles p%n_own+1 .. p%n are the halo, in the order of the cells of
@@ -240,11 +317,11 @@ contains
       type(particles_t), intent(in) :: p
       integer :: i, c, cprev, first
       ok = .true.
-      first = g%ncell - g%ny + 1           ! first cell of the last column
+      first = g%ncell - g%stride + 1       ! first cell of the last column
       g%cstart(first:g%ncell + 2) = 0
       cprev = first
       do i = p%n_own + 1, p%n
-         c = grid_cell_of(g, p%x(1, i), p%x(2, i))
+         c = grid_cell_of(g, p%x(:, i))
          if (c < cprev) ok = .false.
          cprev = c
          c = min(max(c, first), g%ncell)

@@ -8,7 +8,7 @@ module kernel_correction
    use kernel, only: kernel_cubic, kernel_wendland
    use errors, only: fatal
    use input_check, only: int_str
-   use grid, only: grid_t, grid_ranges, grid_last_cell
+   use grid, only: grid_t, grid_ranges, grid_last_cell, grid_nranges
    use particles, only: particles_t
    use nbr_list, only: nbr_t
    use tensor, only: sym_det, sym_adjugate, sym_identity

@@ -17,7 +17,7 @@ module nbr_list
    use constants, only: ndim
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
-   use grid, only: grid_t, grid_ranges, grid_last_cell
+   use grid, only: grid_t, grid_ranges, grid_last_cell, grid_nranges
    use kernel, only: kernel_cubic, kernel_wendland
    implicit none
    private
@@ -49,13 +49,13 @@ contains
       integer, intent(in) :: n, k
       real(rp), intent(in) :: h, support2, fw
       integer, intent(in), optional :: col
-      integer :: c, i, j, r, m, jlo(2), jhi(2), need, c_lo, c_hi, nrows
+      integer :: c, i, j, r, m, jlo(grid_nranges), jhi(grid_nranges), need, c_lo, c_hi, nrows
       real(rp) :: xi(ndim), dr(ndim), r2, q, hinv
       integer :: ist
       character(len=200) :: emsg
       if (present(col)) then
-         c_lo = col*g%ny + 1
-         c_hi = min(col*g%ny + g%ny, grid_last_cell(g))
+         c_lo = col*g%stride + 1
+         c_hi = min(col*g%stride + g%stride, grid_last_cell(g))
          nb%i0 = g%cstart(c_lo)
          nb%i1 = g%cstart(c_hi + 1) - 1
       else

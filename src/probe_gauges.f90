@@ -7,11 +7,11 @@
 module probe_gauges
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use kinds, only: rp
-   use constants, only: kind_fluid, msg_len
+   use constants, only: kind_fluid, msg_len, ndim
    use porous, only: porous_t, porous_point, n_por
    use io_files, only: csv_rows_until, csv_flush
    use params, only: params_t
-   use grid, only: grid_t, grid_line_ranges
+   use grid, only: grid_t, grid_line_ranges, grid_npoint
    use particles, only: particles_t
    use kernel, only: kernel_w
    use errors, only: fatal, alloc_check
@@ -182,13 +182,17 @@ contains
       type(particles_t), intent(in) :: p
       type(porous_t), intent(in) :: por
       integer, intent(out) :: n
-      integer :: r, j, cap, jlo(3), jhi(3)
-      real(rp) :: dx, rho, f(n_por)
+      integer :: r, j, cap, jlo(grid_npoint), jhi(grid_npoint)
+      real(rp) :: dx, rho, f(n_por), xl(ndim)
       cap = 0
       if (allocated(gt%cy)) cap = size(gt%cy)
       n = 0
-      call grid_line_ranges(g, x, jlo, jhi)
-      do r = 1, 3
+      ! the line at x (in 3D at mid-width for now: a gauge has no z yet, doc/3d.md)
+      xl = 0.0_rp
+      xl(1) = x
+      if (ndim == 3) xl(ndim) = g%z0 + 0.5_rp*g%ncz*g%cs
+      call grid_line_ranges(g, xl, jlo, jhi)
+      do r = 1, grid_npoint
          in_cell: do j = jlo(r), min(jhi(r), p%n_own)
             if (p%kind(j) /= kind_fluid) cycle in_cell
             dx = x - p%x(1, j)

@@ -2,7 +2,9 @@
 !> set (each pair exactly once) for random sets with a dense cluster, empty
 !> cells and points on cell edges; dropped particles leave the store; the
 !> production pair loop gives the brute-force continuity and pressure sums,
-!> and with particle shifting its sums too (and the same forces).
+!> and with particle shifting its sums too (and the same forces). In the
+!> dimensions of the build: the 3D build runs it too (make unit-3d), over a
+!> domain a few cells wide.
 module test_grid_state
    use kinds, only: rp
    use particles, only: particles_t
@@ -16,9 +18,9 @@ end module test_grid_state
 program test_grid
    use test_grid_state, only: p, seen
    use kinds, only: rp, lk
-   use constants, only: kind_fluid, kind_fixed
+   use constants, only: kind_fluid, kind_fixed, ndim
    use particles, only: particles_alloc
-   use grid, only: grid_t, grid_init, grid_sort, grid_point_ranges, grid_line_ranges
+   use grid, only: grid_t, grid_init, grid_sort, grid_point_ranges, grid_line_ranges, grid_npoint
    use params, only: params_t, visc_artificial, diff_none, kgc_none, integ_symplectic, shift_none, shift_fickian
    use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw, kernel_f
    use nbr_list, only: nbr_t, nbr_build
@@ -31,13 +33,21 @@ program test_grid
    type(forces_work_t) :: w, ws
    type(nbr_t) :: nb
    logical(lk), allocatable :: drop(:)
-   real(rp) :: h, r(2), d(2), gw(2), dr, a(2), err_d, err_a, scale_d, scale_a, pij, err_f
-   real(rp) :: gc(2), divr, err_c, err_r, scale_c, scale_r
-   integer :: i, j, k, nbad, nmiss, ndup, kk, m, jlo(3), jhi(3), nq
+   real(rp) :: h, r(ndim), d(ndim), gw(ndim), dr, a(ndim), err_d, err_a, scale_d, scale_a, pij, err_f
+   real(rp) :: gc(ndim), divr, err_c, err_r, scale_c, scale_r, ext(ndim), mid(ndim), edge(ndim)
+   integer :: i, j, k, nbad, nmiss, ndup, kk, m, jlo(grid_npoint), jhi(grid_npoint), nq
+   integer :: wrap(3), wrap_q(3)
    integer, allocatable :: hits(:)
    integer, parameter :: kernels(2) = [kernel_wendland, kernel_cubic]
 
    h = 0.02_rp
+   ! the domain: 1 x 0.6 (x 0.15 across in 3D, four cells)
+   ext(1:2) = [1.0_rp, 0.6_rp]
+   if (ndim == 3) ext(ndim) = 0.15_rp
+   mid(1:2) = [0.3_rp, 0.2_rp]
+   if (ndim == 3) mid(ndim) = 0.07_rp
+   wrap = [20, 13, 3]
+   wrap_q = [26, 16, 4]
    call particles_alloc(p, n)
    p%n = n
    p%n_id = n
@@ -45,11 +55,11 @@ program test_grid
    do i = 1, n
       call random_number(r)
       if (i <= 400) then            ! dense cluster: many particles per cell
-         p%x(:, i) = [0.3_rp, 0.2_rp] + 0.03_rp*(r - 0.5_rp)
+         p%x(:, i) = mid + 0.03_rp*(r - 0.5_rp)
       else if (i <= 450) then       ! exactly on cell edges
-         p%x(:, i) = [0.04_rp*mod(i, 20), 0.04_rp*mod(i, 13)]
+         p%x(:, i) = 0.04_rp*mod(i, wrap(1:ndim))
       else                          ! sparse, leaving empty cells
-         p%x(:, i) = [r(1), 0.6_rp*r(2)]
+         p%x(:, i) = ext*r
       end if
       p%id(i) = i
       p%kind(i) = merge(kind_fixed, kind_fluid, mod(i, 7) == 0)
@@ -59,7 +69,7 @@ program test_grid
       call random_number(r)
       p%rho(i) = 1000.0_rp*(1.0_rp + 0.01_rp*(r(1) - 0.5_rp))
    end do
-   call grid_init(g, 0.0_rp, 1.0_rp, 0.0_rp, 0.6_rp, h)
+   call grid_init(g, 0.0_rp, ext(1), 0.0_rp, ext(2), h, zmin=0.0_rp, zmax=ext(ndim))
    allocate (drop(n))
    drop = .false.
    call grid_sort(g, p, drop)
@@ -99,17 +109,18 @@ program test_grid
    nq = 0
    do m = 1, 300
       call random_number(r)
+      edge = 0.04_rp*mod(m, wrap_q(1:ndim))        ! on cell edges, and on the domain's
       select case (mod(m, 3))
       case (0)
-         r = [1.0_rp, 0.6_rp]*r                          ! anywhere
+         r = ext*r                                     ! anywhere
       case (1)
-         r = [0.04_rp*mod(m, 26), 0.04_rp*mod(m, 16)]    ! on cell edges, and on the domain's
+         r = edge
       case default
-         r = [1.1_rp*r(1) - 0.05_rp, 0.6_rp*r(2)]        ! near and past the sides
+         r = 1.1_rp*ext*r - 0.05_rp*ext                 ! near and past the sides
       end select
       hits = 0
       call grid_point_ranges(g, r, jlo, jhi)
-      do k = 1, 3
+      do k = 1, grid_npoint
          if (jlo(k) <= jhi(k)) hits(jlo(k):jhi(k)) = hits(jlo(k):jhi(k)) + 1
       end do
       ndup = ndup + count(hits > 1)
@@ -120,13 +131,16 @@ program test_grid
          end if
       end do
       hits = 0
-      call grid_line_ranges(g, r(1), jlo, jhi)
-      do k = 1, 3
+      call grid_line_ranges(g, r, jlo, jhi)
+      do k = 1, grid_npoint
          if (jlo(k) <= jhi(k)) hits(jlo(k):jhi(k)) = hits(jlo(k):jhi(k)) + 1
       end do
       ndup = ndup + count(hits > 1)
       do i = 1, n
-         if (abs(p%x(1, i) - r(1)) < 2.0_rp*h .and. hits(i) == 0) nmiss = nmiss + 1
+         ! within 2h of the vertical line through r: every horizontal distance
+         d = p%x(:, i) - r
+         d(2) = 0.0_rp
+         if (norm2(d) < 2.0_rp*h .and. hits(i) == 0) nmiss = nmiss + 1
       end do
    end do
    call check(nmiss == 0 .and. ndup == 0, 'point and line ranges: every particle within 2h, each once')
@@ -178,8 +192,8 @@ program test_grid
          err_a = max(err_a, norm2(a - w%acc(:, i)))
          scale_d = max(scale_d, abs(dr))
          scale_a = max(scale_a, norm2(a))
-         err_c = max(err_c, norm2(gc - ws%sh(1:2, i)))
-         err_r = max(err_r, abs(divr - ws%sh(3, i)))
+         err_c = max(err_c, norm2(gc - ws%sh(1:ndim, i)))
+         err_r = max(err_r, abs(divr - ws%sh(ndim + 1, i)))
          scale_c = max(scale_c, norm2(gc))
          scale_r = max(scale_r, abs(divr))
       end do
