@@ -230,8 +230,7 @@ contains
          do b = -(ndim - 2), ndim - 2
             r = r + 1
             cols(r) = -1
-            if (ix < 1 .or. ix > g%ncol) cycle
-            cols(r) = ix*g%stride + (iz + b)*g%ny
+            if (ix >= 1 .and. ix <= g%ncol) cols(r) = ix*g%stride + (iz + b)*g%ny
          end do
       end do
    end subroutine columns_around
