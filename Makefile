@@ -141,7 +141,7 @@ unit-3d: $(UNIT_3D_BIN)
 # them out one per worker instead of giving one worker a block of them all.
 TEST_JOBS ?= $(shell nproc)
 test: deps
-	$(MAKE) -j2 build/mbsph build/debug/mbsph
+	$(MAKE) -j2 build/mbsph build/debug/mbsph build/mbsph3d
 	$(MAKE) unit unit-debug
 	$(PYTHON) -m pytest -q -n $(TEST_JOBS) --maxschedchunk=1 tests
 
@@ -260,7 +260,7 @@ porous: deps build/mbsph
 study: deps build/mbsph
 	$(PYTHON) -m post.study $(STUDIES) --doc doc/accuracy-cost.md --img doc/img --cost cpu_s $(STUDY_FLAGS)
 
-bench: deps build/mbsph
+bench: deps build/mbsph build/mbsph3d
 	$(PYTHON) bench/run_bench.py
 
 # unused effects cost nothing: the benchmark fluid-only, with a body far from the water,

@@ -2,6 +2,9 @@
 
 - The 2D dam break (bench/dambreak_bench.nml) at dp, dp/2 and dp/4: fluid and
   walls only, the Verlet integrator (one force evaluation a step).
+- The 3D dam break (bench/dambreak3d_bench.nml, about 170 000 particles) with
+  build/mbsph3d, the whole 0.5 s of flow (or --steps-3d steps): its cost per
+  particle-step against the 2D dam break's of the same run (doc/3d.md).
 - The breakwater workload: the settling case of input/breakwater/regular.nml
   (gradient correction, density diffusion, the paddle, eleven armour units in
   contact, the symplectic integrator: two force evaluations a step) at its dp
@@ -16,9 +19,11 @@ MPI and HDF5 libraries). It ends with one line per workload, the smallest size:
 
     dam break 2D: 0.123 us per particle-step (23018 particles)
     breakwater 2D: 0.234 us per particle-step (14344 particles)
+    dam break 3D: 0.789 us per particle-step (172674 particles)
 
     .venv/bin/python bench/run_bench.py [--sizes 1 2 4] [--steps 0 800 200] [--t-end T]
-                                        [--bw-sizes 1 2] [--bw-steps 400 100] [--only dambreak|breakwater]
+                                        [--bw-sizes 1 2] [--bw-steps 400 100] [--steps-3d 200]
+                                        [--only dambreak|breakwater|dambreak3d]
 
 --steps gives max_steps per size of the dam break (0: the whole 0.5 s of flow);
 --t-end runs every size for the same simulated time instead (no step limit).
@@ -46,9 +51,9 @@ def make_case(template: str, dp: float, steps: int, out_dir: Path, t_end: float 
     return text
 
 
-def run(case: Path) -> tuple[str, int]:
-    """Run the solver; return its output and its peak RSS in bytes."""
-    proc = subprocess.Popen([str(ROOT / "build" / "mbsph"), str(case)],
+def run(case: Path, binary: str = "mbsph") -> tuple[str, int]:
+    """Run the solver (build/<binary>); return its output and its peak RSS in bytes."""
+    proc = subprocess.Popen([str(ROOT / "build" / binary), str(case)],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     out = proc.stdout.read()
     _, status, usage = os.wait4(proc.pid, 0)
@@ -66,9 +71,9 @@ def make_breakwater(template: str, size: int, steps: int, out_dir: Path) -> str:
                         f"out_dir = '{out_dir}'\n  max_steps = {steps}\n  progress_interval = 1.0e9")
 
 
-def measure(case: Path) -> tuple[int, int, float, int, float]:
+def measure(case: Path, binary: str = "mbsph") -> tuple[int, int, float, int, float]:
     """Particles, steps, us per particle-step, peak RSS [B] and pair-loop share of one run."""
-    out, rss = run(case)
+    out, rss = run(case, binary)
     n = int(re.search(r"particles: (\d+)", out).group(1))
     us = float(re.search(r"cost: ([\d.]+) microseconds", out).group(1))
     nsteps = int(re.search(r"after (\d+) steps", out).group(1))
@@ -97,11 +102,12 @@ def main() -> None:
     ap.add_argument("--t-end", type=float, default=None, help="simulated time for every size (overrides --steps)")
     ap.add_argument("--bw-sizes", type=int, nargs="+", default=[1, 2], help="breakwater refinements: dp = 0.01 / size")
     ap.add_argument("--bw-steps", type=int, nargs="+", default=[400, 100], help="breakwater max_steps per size")
-    ap.add_argument("--only", choices=["dambreak", "breakwater"], default=None, help="run one workload")
+    ap.add_argument("--steps-3d", type=int, default=0, help="3D dam break max_steps (0 = the whole 0.5 s)")
+    ap.add_argument("--only", choices=["dambreak", "breakwater", "dambreak3d"], default=None, help="run one workload")
     args = ap.parse_args()
     summary = []
     with tempfile.TemporaryDirectory() as tmp:
-        if args.only != "breakwater":
+        if args.only in (None, "dambreak"):
             template = (ROOT / "bench" / "dambreak_bench.nml").read_text()
             rows = []
             for k, size in enumerate(args.sizes):
@@ -114,8 +120,9 @@ def main() -> None:
                 n, nsteps, us, rss, share = measure(case)
                 rows.append((dp, n, nsteps, us, rss, share))
             table("dam break 2D (bench/dambreak_bench.nml)", rows)
+            rows2d = rows
             summary.append(f"dam break 2D: {rows[0][3]:.3f} us per particle-step ({rows[0][1]} particles)")
-        if args.only != "dambreak":
+        if args.only in (None, "breakwater"):
             template = (ROOT / "input" / "breakwater" / "regular.nml").read_text()
             rows = []
             for k, size in enumerate(args.bw_sizes):
@@ -126,6 +133,18 @@ def main() -> None:
                 rows.append((0.01 / size, n, nsteps, us, rss, share))
             table("breakwater 2D (input/breakwater/regular.nml, settling)", rows)
             summary.append(f"breakwater 2D: {rows[0][3]:.3f} us per particle-step ({rows[0][1]} particles)")
+        if args.only in (None, "dambreak3d"):
+            text = (ROOT / "bench" / "dambreak3d_bench.nml").read_text()
+            assert "out_dir = 'OUT/bench3d'" in text
+            case = Path(tmp) / "bench3d.nml"
+            limit = f"\n  max_steps = {args.steps_3d}" if args.steps_3d > 0 else ""
+            case.write_text(text.replace("out_dir = 'OUT/bench3d'", f"out_dir = '{Path(tmp) / 'out3d'}'{limit}"))
+            n, nsteps, us, rss, share = measure(case, "mbsph3d")
+            table("dam break 3D (bench/dambreak3d_bench.nml, build/mbsph3d)", [(0.01, n, nsteps, us, rss, share)])
+            line = f"dam break 3D: {us:.3f} us per particle-step ({n} particles)"
+            if args.only is None:
+                line += f"; {us / rows2d[0][3]:.2f} times the 2D dam break's"
+            summary.append(line)
     for line in summary:
         print(line)
 

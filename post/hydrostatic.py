@@ -21,7 +21,7 @@ from typing import NamedTuple, Sequence
 
 import numpy as np
 
-from .interp import free_surface_height, interpolate
+from .interp import free_surface_height, interpolate, line_points
 from .io import Snapshot, closest_snapshots, list_snapshots, read_snapshot
 from .plotting import Figure, plt, save_figure
 
@@ -30,10 +30,11 @@ __all__ = ["profile", "sample_heights", "BedFit", "bed_pressure", "main"]
 _N_POINTS = 40
 
 
-def profile(snapshot: Snapshot, x: float, ys: Sequence[float] | np.ndarray) -> np.ndarray:
-    """SPH-interpolated pressure (Pa) at the points ``(x, y)`` for ``y`` in ``ys`` (NaN out of the water)."""
+def profile(snapshot: Snapshot, x: float, ys: Sequence[float] | np.ndarray, z: float | None = None) -> np.ndarray:
+    """SPH-interpolated pressure (Pa) at the points ``(x, y)`` for ``y`` in ``ys`` (NaN out of the water);
+    in a 3D snapshot at ``(x, y, z)``, ``z`` by default mid-width."""
     ys = np.asarray(ys, dtype=float)
-    return interpolate(snapshot, "pressure", np.column_stack([np.full(ys.shape, x), ys]))
+    return interpolate(snapshot, "pressure", line_points(snapshot, np.full(ys.shape, x), ys, z))
 
 
 def sample_heights(snapshot: Snapshot, y_bed: float, depth: float, n: int = _N_POINTS) -> np.ndarray:
@@ -86,6 +87,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m post.hydrostatic", description=__doc__.split("\n")[0])
     parser.add_argument("out_dir", type=Path, help="output folder of a run")
     parser.add_argument("--x", type=float, required=True, help="horizontal position of the profile (m)")
+    parser.add_argument("--z", type=float, help="3D runs: position across the width (m); default mid-width")
     parser.add_argument("--depth", type=float, help="water depth H above the bed (m); default: measured")
     parser.add_argument("--y-bed", type=float, default=0.0, help="bed elevation (m), default 0")
     parser.add_argument("--time", type=float, help="time (s) of the snapshot; default: the last one")
@@ -98,11 +100,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     snap = read_snapshot(paths[-1])
     depth = args.depth
     if depth is None:
-        depth = float(free_surface_height(snap, args.x)) - args.y_bed
+        depth = float(free_surface_height(snap, args.x, z=args.z)) - args.y_bed
         if not np.isfinite(depth):
             raise ValueError(f"no water at x = {args.x} in {args.out_dir}")
     ys = sample_heights(snap, args.y_bed, depth)
-    p = profile(snap, args.x, ys)
+    p = profile(snap, args.x, ys, args.z)
     rho_g = snap.rho0 * snap.g
     p_ref = rho_g * (args.y_bed + depth - ys)
     fit = bed_pressure(ys, p, args.y_bed)

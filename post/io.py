@@ -46,7 +46,7 @@ FLUID, FIXED_BOUNDARY, MOVING_BOUNDARY, FLOATING_BODY, FILTER = 1, 2, 3, 4, 5
 class Snapshot:
     """One particle snapshot: the datasets and root attributes of ``snap_NNNNN.h5``.
 
-    Vector fields have shape ``(N, 2)``, scalar fields shape ``(N,)``. ``gravity`` is
+    Vector fields have shape ``(N, 2)`` (``(N, 3)`` from the 3D build), scalar fields shape ``(N,)``. ``gravity`` is
     kept as stored (a scalar or a vector, possibly signed); :attr:`g` is its magnitude.
     ``attrs`` holds every root attribute as read, including any not listed here, and
     ``datasets`` every other dataset as stored (``body_pose``: x, y, angle of each body,
@@ -113,13 +113,14 @@ def _number(value: Any, default: float = float("nan")) -> Any:
 
 
 def _vectors(values: np.ndarray, name: str) -> np.ndarray:
-    """Return a vector dataset as ``(N, 2)`` floats; a ``(2, N)`` layout is transposed."""
+    """Return a vector dataset as ``(N, 2)`` (2D) or ``(N, 3)`` (3D) floats; a ``(2, N)`` or
+    ``(3, N)`` layout is transposed."""
     arr = np.asarray(values, dtype=float)
-    if arr.ndim == 2 and arr.shape[1] == 2:
+    if arr.ndim == 2 and arr.shape[1] in (2, 3):
         return arr
-    if arr.ndim == 2 and arr.shape[0] == 2:
+    if arr.ndim == 2 and arr.shape[0] in (2, 3):
         return arr.T.copy()
-    raise ValueError(f"/{name} has shape {arr.shape}, expected (N, 2)")
+    raise ValueError(f"/{name} has shape {arr.shape}, expected (N, 2) or (N, 3)")
 
 
 def _snapshot_index(path: Path) -> int:

@@ -4,7 +4,7 @@
 module body_dynamics
    use errors, only: alloc_check
    use kinds, only: rp
-   use constants, only: kind_floating, kind_fixed, kind_moving, pi, ndim
+   use constants, only: kind_floating, kind_fixed, kind_moving, pi, ndim, iup
    use rigid, only: pose_t, nrot, ndof, rigid_rotation, rigid_rotate, rigid_point_velocity, rigid_moment, &
                     rigid_moment_add, rigid_angular_accel, rigid_inertia_inverse, rigid_turn, rigid_rot_energy, &
                     rigid_world_inertia
@@ -158,7 +158,7 @@ contains
       alpha = 0.0_rp
       if (b%motion /= motion_floating) return
       a = (b%f_fluid + b%f_normal + b%f_fric)/b%mass
-      a(ndim) = a(ndim) - b%g                      ! gravity along the last axis
+      a(iup) = a(iup) - b%g                        ! gravity along -y
       alpha = rigid_angular_accel(rigid_world_inertia(b%inertia, b%pose, b%pose_start), &
                                   b%t_fluid + b%t_normal + b%t_fric, b%omega)
    end subroutine accel
@@ -463,7 +463,7 @@ contains
          if (bodies(b)%motion /= motion_floating) cycle
          ekin = ekin + 0.5_rp*bodies(b)%mass*sum(bodies(b)%v**2) + &
                 rigid_rot_energy(rigid_world_inertia(bodies(b)%inertia, bodies(b)%pose, bodies(b)%pose_start), bodies(b)%omega)
-         epot = epot + bodies(b)%mass*bodies(b)%g*bodies(b)%pose%c(ndim)
+         epot = epot + bodies(b)%mass*bodies(b)%g*bodies(b)%pose%c(iup)
       end do
    end subroutine bodies_energy
 end module body_dynamics

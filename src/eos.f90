@@ -2,6 +2,7 @@
 module eos
    use kinds, only: rp
    use params, only: params_t
+   use constants, only: ndim, iup
    implicit none
    private
    public :: eos_update, eos_density_at_depth, eos_dynamic_density, root7
@@ -52,23 +53,23 @@ contains
       type(params_t), intent(in) :: prm
       integer, intent(in) :: n
       ! explicit shapes, so that the loop runs four particles at a time
-      real(rp), intent(in) :: rho(n), x(2, n)
+      real(rp), intent(in) :: rho(n), x(ndim, n)
       real(rp), intent(out) :: rhod(n)
       integer :: i
       real(rp) :: ymin
       ymin = prm%y_surface
       do i = 1, n
-         ymin = min(ymin, x(2, i))
+         ymin = min(ymin, x(iup, i))
       end do
       if (prm%igamma == 7 .and. depth_ratio(prm, prm%y_surface - ymin) <= root7_max) then
          ! every particle in the range of the Newton root: the same numbers as
          ! eos_density_at_depth gives, without its test per particle
          do i = 1, n
-            rhod(i) = rho(i) - prm%rho0*root7(depth_ratio(prm, prm%y_surface - x(2, i)))
+            rhod(i) = rho(i) - prm%rho0*root7(depth_ratio(prm, prm%y_surface - x(iup, i)))
          end do
       else
          do i = 1, n
-            rhod(i) = rho(i) - eos_density_at_depth(prm, prm%y_surface - x(2, i))
+            rhod(i) = rho(i) - eos_density_at_depth(prm, prm%y_surface - x(iup, i))
          end do
       end if
    end subroutine eos_dynamic_density

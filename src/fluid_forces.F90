@@ -10,7 +10,7 @@ module fluid_forces
    use kinds, only: rp
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
-   use constants, only: kind_fluid, ndim, nsym
+   use constants, only: kind_fluid, ndim, nsym, iup
    use tensor, only: sym_slot
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive, bnd_mdbc, &
                      slip_wall, shift_none
@@ -373,7 +373,7 @@ contains
       ! gravity on the owned particles only: the pair sums of the halo
       ! copies are added to their owners afterwards (comm_halo_reverse)
       do i = 1, p%n_own
-         if (p%kind(i) == kind_fluid) w%acc(ndim, i) = w%acc(ndim, i) - prm%g   ! gravity along the last axis
+         if (p%kind(i) == kind_fluid) w%acc(iup, i) = w%acc(iup, i) - prm%g   ! gravity along -y
       end do
    end subroutine forces_sweep_last
 

@@ -3,7 +3,7 @@
 !> permeable filter) and a motion.
 module input_geometry
    use kinds, only: rp
-   use constants, only: name_len, msg_len
+   use constants, only: name_len, msg_len, ndim
    use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, checked_outline, &
                           group_count, int_str, real_str
    use errors, only: input_error, alloc_check, fatal
@@ -32,27 +32,29 @@ module input_geometry
       real(rp) :: box(4) = 0.0_rp                   !< xmin, xmax, ymin, ymax
       real(rp) :: line(4) = 0.0_rp                  !< slope x0, y0, x1, y1
       integer :: layers = 0                         !< slope thickness in particle rows
+      !> 3D: the extent across the width (zmin, zmax) [m]; zmax <= zmin (both left out): the domain's width
+      real(rp) :: zr(2) = 0.0_rp
    end type geom_object
 
    ! &box
    character(len=name_len) :: role, motion
-   real(rp) :: xmin, xmax, ymin, ymax, amplitude(2), period
-   namelist /box/ role, xmin, xmax, ymin, ymax, motion, amplitude, period
+   real(rp) :: xmin, xmax, ymin, ymax, amplitude(2), period, zmin, zmax
+   namelist /box/ role, xmin, xmax, ymin, ymax, motion, amplitude, period, zmin, zmax
    ! &polygon
    integer :: nvert
    real(rp) :: x(max_vert), y(max_vert)
-   namelist /polygon/ role, nvert, x, y, motion, amplitude, period
+   namelist /polygon/ role, nvert, x, y, motion, amplitude, period, zmin, zmax
    ! &slope
    real(rp) :: x0, y0, x1, y1
    integer :: layers
-   namelist /slope/ role, x0, y0, x1, y1, layers
+   namelist /slope/ role, x0, y0, x1, y1, layers, zmin, zmax
 
 contains
 
    subroutine defaults()
       type(geom_object) :: d
       role = d%role; motion = d%motion; amplitude = d%amplitude; period = d%period
-      xmin = 0.0_rp; xmax = 0.0_rp; ymin = 0.0_rp; ymax = 0.0_rp
+      xmin = 0.0_rp; xmax = 0.0_rp; ymin = 0.0_rp; ymax = 0.0_rp; zmin = d%zr(1); zmax = d%zr(2)
       nvert = 0; x = 0.0_rp; y = 0.0_rp
       x0 = 0.0_rp; y0 = 0.0_rp; x1 = 0.0_rp; y1 = 0.0_rp; layers = 0
    end subroutine defaults
@@ -122,6 +124,7 @@ contains
          objs(n)%index = k
          objs(n)%line = [x0, y0, x1, y1]
          objs(n)%layers = layers
+         call set_width(file, objs(n), g)
          objs(n)%nv = 4
          block
             real(rp) :: t(2), nrm(2), thick
@@ -150,8 +153,22 @@ contains
             if (o%role_id == role_fluid) call input_error(file, gname, 'motion', "only a solid can move (role = 'solid')")
             call check_real(file, gname, 'period', o%period, 0.0_rp, 1.0e6_rp, lo_open=.true.)
          end if
+         call set_width(file, o, gname)
       end subroutine set_common
    end subroutine read_geometry
+
+   !> The extent across the width of the group just read (3D only): zmin and zmax
+   !> both left out for the domain's width.
+   subroutine set_width(file, o, gname)
+      character(len=*), intent(in) :: file, gname
+      type(geom_object), intent(inout) :: o
+      if (abs(zmin) <= 0.0_rp .and. abs(zmax) <= 0.0_rp) return
+      if (ndim == 2) call input_error(file, gname, merge('zmin', 'zmax', abs(zmin) > 0.0_rp), &
+                                      'a width across the section is for the 3D build (build/mbsph3d); leave it out in 2D')
+      if (.not. (zmax > zmin)) call input_error(file, gname, 'zmax', 'must be greater than zmin = '// &
+                                                real_str(zmin)//' (got '//real_str(zmax)//')')
+      o%zr = [zmin, zmax]
+   end subroutine set_width
 
    !> The role of a &slope from the namelist's role and layers: a solid, or a
    !> filter of one row (what the bodies touch is the outer row; the water needs none).
@@ -176,6 +193,7 @@ contains
          call defaults()
          role = objs(k)%role; motion = objs(k)%motion
          amplitude = objs(k)%amplitude; period = objs(k)%period
+         zmin = objs(k)%zr(1); zmax = objs(k)%zr(2)
          select case (objs(k)%group)
          case ('box')
             xmin = objs(k)%box(1); xmax = objs(k)%box(2); ymin = objs(k)%box(3); ymax = objs(k)%box(4)

@@ -111,6 +111,7 @@ contains
          if (size(st%pad_hist, 2) > 0) call h5_write(f, 'pad_history', st%pad_hist)
       end if
       call h5_attr_write(f, 'dp', dp)
+      call h5_attr_write(f, 'ndim', ndim)
       call h5_attr_write(f, 'n_bodies', size(bodies))
       ! each rank's particles, summed over the ranks (exact: every part is below 2^31)
       do k = 1, nfield
@@ -248,11 +249,16 @@ contains
       real(rp), intent(in) :: dp
       integer, intent(in) :: n_bodies, n_made
       integer(hid_t) :: f
-      integer :: nb, n_id
+      integer :: nb, n_id, nd
       real(rp) :: dp_file
       character(len=:), allocatable :: what
       what = trim(out_dir)//'/checkpoint.h5 '
       f = h5_open_read(trim(out_dir)//'/checkpoint.h5')
+      ! a checkpoint without the attribute is from a 2D build (before there was a 3D one)
+      nd = 2
+      if (h5_attr_exists(f, 'ndim')) call h5_attr_read(f, 'ndim', nd)
+      if (nd /= ndim) call input_error(case_file, 'run', 'restart', what//'was written by the '//int_str(nd)// &
+         'D build; this is the '//int_str(ndim)//'D one ('//trim(merge('build/mbsph  ', 'build/mbsph3d', ndim == 2))//')')
       nb = 0
       if (h5_exists(f, 'bodies')) nb = h5_length(f, 'bodies')
       if (nb /= n_bodies) call input_error(case_file, 'run', 'restart', what//'holds '//int_str(nb)// &

@@ -244,6 +244,12 @@ contains
       character(len=msg_len) :: msg
       character(len=:), allocatable :: path, snap
       character(len=24) :: ns
+      character(len=3) :: nd
+      character(len=:), allocatable :: geo
+      ! the vectors have ndim components: XY in 2D, XYZ in 3D
+      write (nd, '(1x,i0)') ndim
+      geo = 'XYZ'
+      geo = geo(1:ndim)
       path = trim(out_dir)//'/particles.xmf'
       open (newunit=u, file=path//'.tmp', status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//path//'.tmp: '//trim(msg))
@@ -261,17 +267,17 @@ contains
             '" NodesPerElement="1">'
          call item(u, ns, '', 'Int', '4', snap, 'connectivity')
          write (u, '(a)') '    </Topology>'
-         write (u, '(a)') '    <Geometry GeometryType="XY">'
-         call item(u, ns, ' 2', 'Float', '8', snap, 'position')
+         write (u, '(a)') '    <Geometry GeometryType="'//geo//'">'
+         call item(u, ns, trim(nd), 'Float', '8', snap, 'position')
          write (u, '(a)') '    </Geometry>'
-         call attribute(u, 'velocity', 'Vector', ns, ' 2', 'Float', '8', snap)
+         call attribute(u, 'velocity', 'Vector', ns, trim(nd), 'Float', '8', snap)
          call attribute(u, 'density', 'Scalar', ns, '', 'Float', '8', snap)
          call attribute(u, 'pressure', 'Scalar', ns, '', 'Float', '8', snap)
          call attribute(u, 'kind', 'Scalar', ns, '', 'Int', '4', snap)
          call attribute(u, 'body', 'Scalar', ns, '', 'Int', '4', snap)
          call attribute(u, 'id', 'Scalar', ns, '', 'Int', '4', snap)
          if (ix%porosity) call attribute(u, 'porosity', 'Scalar', ns, '', 'Float', '8', snap)
-         if (ix%ghost) call attribute(u, 'ghost', 'Vector', ns, ' 2', 'Float', '8', snap)
+         if (ix%ghost) call attribute(u, 'ghost', 'Vector', ns, trim(nd), 'Float', '8', snap)
          write (u, '(a)') '   </Grid>'
       end do
       write (u, '(a)') '  </Grid>'

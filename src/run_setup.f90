@@ -6,7 +6,7 @@
 !> sees only run_t.
 module run_setup
    use kinds, only: rp
-   use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, kind_name
+   use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, kind_name, ndim
    use input, only: case_cfg, write_case
    use input_check, only: int_str, real_str, approx_str
    use particles, only: particles_t, particles_count_kind, particles_permute
@@ -244,6 +244,7 @@ contains
          ! the grid: cells 2h wide and h/2 tall, with ghost columns and rows (grid_init)
          cells = (real(ceiling((d%xmax - d%xmin)/(2.0_rp*h)), rp) + 2.0_rp)* &
                  (real(ceiling((d%ymax - d%ymin)/(0.5_rp*h)), rp) + 8.0_rp)
+         if (ndim == 3) cells = cells*(real(ceiling((d%zmax - d%zmin)/(2.0_rp*h)), rp) + 2.0_rp)
          if (cells > index_max) call input_error(c%file, 'domain', 'xmin, xmax, ymin, ymax', 'the domain of '// &
             real_str(d%xmax - d%xmin)//' x '//real_str(d%ymax - d%ymin)//' m makes '//approx_str(cells)// &
             ' cells of the neighbour grid at dp = '//real_str(c%numerics%dp)//' m, more than the '// &
@@ -276,7 +277,9 @@ contains
       character(len=200) :: emsg
       nr = comm_size()
       me = comm_rank()
-      call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h)
+      ! (the width, the box's last pair, is taken in 3D only)
+      call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h, &
+                     zmin=r%rc%box(2*ndim - 1), zmax=r%rc%box(2*ndim))
       call decomp_init(r%dc, r%g%x0, r%g%cs, r%g%ncx_all, nr, me)
       if (nr == 1) return
       same = size(counts) == nr .and. size(edges) == nr + 1
@@ -315,7 +318,7 @@ contains
       call particles_permute(r%p, perm, nkeep)
       r%p%n_own = r%p%n
       call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h, &
-                     decomp_lo(r%dc), decomp_hi(r%dc))
+                     decomp_lo(r%dc), decomp_hi(r%dc), zmin=r%rc%box(2*ndim - 1), zmax=r%rc%box(2*ndim))
    contains
       subroutine keep(j)
          integer, intent(in) :: j

@@ -45,7 +45,7 @@ contains
       type(params_t), intent(out) :: prm
       type(body_t), allocatable, intent(out) :: bodies(:)
       integer :: k, i, nf
-      real(rp) :: dp, ybed, ytop, f(n_por)
+      real(rp) :: dp, ybed, ytop, f(n_por), zdom(2)
       type(outline_t), allocatable :: holes(:)
       type(porous_t) :: por
       integer :: ist
@@ -64,11 +64,12 @@ contains
          holes(k)%v = body_outline(c%bodies(k))
       end do
       por = scene_porous(c)
+      zdom = [c%domain%zmin, c%domain%zmax]
       do k = 1, size(c%objs)
          if (c%objs(k)%group == 'slope') then
-            call add_slope(c%objs(k), k, dp, p, c%objs(1:k - 1))
+            call add_slope(c%objs(k), k, dp, zdom, p, c%objs(1:k - 1))
          else
-            call add_lattice(c%objs(k), k, dp, p, c%objs, holes, por)
+            call add_lattice(c%objs(k), k, dp, zdom, p, c%objs, holes, por)
          end if
       end do
       call add_pore_water(c, dp, p, holes, por)
@@ -84,7 +85,7 @@ contains
       do i = 1, p%n
          p%id(i) = i
          p%v(:, i) = 0.0_rp
-         p%mass(i) = prm%rho0*dp*dp
+         p%mass(i) = prm%rho0*dp**ndim
          ! a filter carries no water: massless in every pair term, the water
          ! passes it (its particles only stop bodies, through the contact)
          if (p%kind(i) == kind_filter) p%mass(i) = 0.0_rp
@@ -93,7 +94,7 @@ contains
          p%rho(i) = eos_density_at_depth(prm, max(prm%y_surface - p%x(2, i), 0.0_rp))
          if (por%on .and. p%kind(i) == kind_fluid) then
             ! in the pores the continuity equation carries the superficial density n rho
-            f = porous_point(por, p%x(:, i))
+            f = porous_point(por, p%x(1:nsec, i))
             p%rho(i) = f(1)*p%rho(i)
          end if
          if (p%history) then
@@ -128,7 +129,8 @@ contains
    end subroutine no_fluid
 
    !> About how many particles the case makes: the area of every object and
-   !> body over dp^2 (overlaps counted twice: an upper estimate), before any is made.
+   !> body over dp^2, in 3D times the width over dp (overlaps counted twice: an
+   !> upper estimate), before any is made.
    real(rp) function scene_estimate(c) result(n)
       type(case_cfg), intent(in) :: c
       integer :: k
@@ -140,6 +142,7 @@ contains
          n = n + abs(polygon_area(body_outline(c%bodies(k))))
       end do
       n = n/c%numerics%dp**2
+      if (ndim == 3) n = n*max(1.0_rp, (c%domain%zmax - c%domain%zmin)/c%numerics%dp)
    end function scene_estimate
 
    !> The bodies of a case at their start state, and (when p is given) their
@@ -221,55 +224,74 @@ contains
    end subroutine add_body
 
    !> Lattice points (spacing dp, half a spacing in from the bounding box)
-   !> inside the object's polygon; fluid points leave room for the bodies.
-   subroutine add_lattice(o, obj, dp, p, objs, holes, por)
+   !> inside the object's polygon; fluid points leave room for the bodies. In
+   !> 3D the section's lattice is repeated across the object's width (zdom:
+   !> the domain's, for an object without its own).
+   subroutine add_lattice(o, obj, dp, zdom, p, objs, holes, por)
       type(geom_object), intent(in) :: o, objs(:)
       type(outline_t), intent(in) :: holes(:)
       type(porous_t), intent(in) :: por
       integer, intent(in) :: obj
-      real(rp), intent(in) :: dp
+      real(rp), intent(in) :: dp, zdom(2)
       type(particles_t), intent(inout) :: p
-      integer :: i, j, nx, ny, k
-      real(rp) :: x0, y0, pt(2)
+      integer :: i, j, nx, ny, nz, l, k
+      real(rp) :: x0, y0, pt(2), z(2), ps(ndim)
       x0 = minval(o%v(1, :))
       y0 = minval(o%v(2, :))
       nx = nint((maxval(o%v(1, :)) - x0)/dp)
       ny = nint((maxval(o%v(2, :)) - y0)/dp)
-      call particles_grow(p, nx*ny)
-      do j = 1, ny
-         columns: do i = 1, nx
-            pt = [x0 + (i - 0.5_rp)*dp, y0 + (j - 0.5_rp)*dp]
-            if (.not. point_in_polygon(pt, o%v)) cycle columns
-            if (o%role_id == role_solid) then
-               if (inside_earlier_solid(pt, objs(1:obj - 1))) cycle columns
-            else if (in_hole(pt)) then
-               cycle columns
-            end if
-            p%n = p%n + 1
-            k = p%n
-            p%x(:, k) = pt
-            p%xb(:, k) = pt
-            if (o%role_id == role_fluid) then
-               p%kind(k) = kind_fluid
-               p%body(k) = 0
-               p%nrm(:, k) = 0.0_rp
-               p%surf(k) = 0
-            else
-               p%kind(k) = merge(kind_moving, kind_fixed, o%motion_id /= wall_fixed)
-               p%body(k) = obj
-               ! the outer layer is the surface (contact, repulsive boundary), near a
-               ! vertex a corner; a side covered by another solid is no surface
-               p%nrm(:, k) = nearest_edge_normal(pt, o%v)
-               p%surf(k) = 0
-               if (exposed_edge(pt, p%nrm(:, k))) then
-                  p%surf(k) = 1
-                  if (minval(hypot(o%v(1, :) - pt(1), o%v(2, :) - pt(2))) < dp) p%surf(k) = 2
+      nz = layers_across(o, zdom, dp, z)
+      call particles_grow(p, nx*ny*nz)
+      across: do l = 1, nz
+         ! in 2D the section's point below overwrites this
+         ps(ndim) = z(1) + (l - 0.5_rp)*dp
+         do j = 1, ny
+            columns: do i = 1, nx
+               pt = [x0 + (i - 0.5_rp)*dp, y0 + (j - 0.5_rp)*dp]
+               ps(1:nsec) = pt
+               if (.not. point_in_polygon(pt, o%v)) cycle columns
+               if (o%role_id == role_solid) then
+                  if (inside_earlier_solid(ps, objs(1:obj - 1), zdom)) cycle columns
+               else if (in_hole(pt, holes, por, dp)) then
+                  cycle columns
                end if
-            end if
-            p%nb(:, k) = p%nrm(:, k)
-         end do columns
-      end do
+               p%n = p%n + 1
+               k = p%n
+               p%x(:, k) = ps
+               p%xb(:, k) = ps
+               if (o%role_id == role_fluid) then
+                  p%kind(k) = kind_fluid
+                  p%body(k) = 0
+                  p%nrm(:, k) = 0.0_rp
+                  p%surf(k) = 0
+               else
+                  call solid_particle(k, pt)
+               end if
+               p%nb(:, k) = p%nrm(:, k)
+            end do columns
+         end do
+      end do across
    contains
+      !> Particle k, at pt in the section, is of the solid: its kind, body and
+      !> normal; the outer layer is the surface (contact, repulsive boundary), near a
+      !> vertex a corner; a side covered by another solid is no surface (in 3D the
+      !> section's normal: the faces across the width have none yet, doc/3d.md).
+      subroutine solid_particle(k, pt)
+         integer, intent(in) :: k
+         real(rp), intent(in) :: pt(2)
+         real(rp) :: n2(2)
+         p%kind(k) = merge(kind_moving, kind_fixed, o%motion_id /= wall_fixed)
+         p%body(k) = obj
+         n2 = nearest_edge_normal(pt, o%v)
+         p%surf(k) = 0
+         if (exposed_edge(pt, n2)) then
+            p%surf(k) = 1
+            if (minval(hypot(o%v(1, :) - pt(1), o%v(2, :) - pt(2))) < dp) p%surf(k) = 2
+         end if
+         p%nrm(:, k) = 0.0_rp
+         p%nrm(1:nsec, k) = n2
+      end subroutine solid_particle
+
       !> Among the edges of o less than dp from pt, the nearest (the first on a
       !> tie) whose outside one spacing away is not inside another solid: its
       !> outward normal goes to n. False when there is none.
@@ -300,18 +322,21 @@ contains
          end do edges
       end function exposed_edge
 
-      !> Inside a body, or closer to its outline than half a spacing; or among
-      !> stones, whose water add_pore_water places.
-      logical function in_hole(pt)
-         real(rp), intent(in) :: pt(2)
-         integer :: h
-         in_hole = in_pores(por, pt)
-         do h = 1, size(holes)
-            in_hole = in_hole .or. point_in_polygon(pt, holes(h)%v) .or. &
-                      distance_to_polygon(pt, holes(h)%v) < 0.499_rp*dp
-         end do
-      end function in_hole
    end subroutine add_lattice
+
+   !> Inside a body, or closer to its outline than half a spacing dp; or among
+   !> stones, whose water add_pore_water places.
+   logical function in_hole(pt, holes, por, dp)
+      real(rp), intent(in) :: pt(2), dp
+      type(outline_t), intent(in) :: holes(:)
+      type(porous_t), intent(in) :: por
+      integer :: h
+      in_hole = in_pores(por, pt)
+      do h = 1, size(holes)
+         in_hole = in_hole .or. point_in_polygon(pt, holes(h)%v) .or. &
+                   distance_to_polygon(pt, holes(h)%v) < 0.499_rp*dp
+      end do
+   end function in_hole
 
    !> Water in the pores: where a porous region covers a fluid object, a
    !> lattice of spacing about dp/sqrt(n), so that every particle keeps the
@@ -437,14 +462,16 @@ contains
       call porous_lookup(por, c%numerics%h_over_dp*c%numerics%dp)
    end function scene_porous
 
-   !> Rows of particles parallel to the slope line, below it (a filter: one row).
-   subroutine add_slope(o, obj, dp, p, earlier)
+   !> Rows of particles parallel to the slope line, below it (a filter: one
+   !> row); in 3D repeated across the object's width (zdom: the domain's, for
+   !> a slope without its own).
+   subroutine add_slope(o, obj, dp, zdom, p, earlier)
       type(geom_object), intent(in) :: o, earlier(:)
       integer, intent(in) :: obj
-      real(rp), intent(in) :: dp
+      real(rp), intent(in) :: dp, zdom(2)
       type(particles_t), intent(inout) :: p
-      real(rp) :: a(2), b(2), t(2), nrm(2), len, ds, pt(2)
-      integer :: i, l, ns, k
+      real(rp) :: a(2), b(2), t(2), nrm(2), len, ds, ps(ndim), z(2)
+      integer :: i, l, ns, k, nz, m
       a = o%line(1:2)
       b = o%line(3:4)
       len = norm2(b - a)
@@ -452,35 +479,65 @@ contains
       nrm = [-t(2), t(1)]
       ns = max(1, nint(len/dp))
       ds = len/ns
-      call particles_grow(p, ns*o%layers)
-      do l = 1, o%layers
-         along: do i = 1, ns
-            pt = a + (i - 0.5_rp)*ds*t - (l - 0.5_rp)*dp*nrm
-            if (inside_earlier_solid(pt, earlier)) cycle along
-            p%n = p%n + 1
-            k = p%n
-            p%x(:, k) = pt
-            p%xb(:, k) = pt
-            p%kind(k) = merge(kind_filter, kind_fixed, o%role_id == role_filter)
-            p%body(k) = obj
-            p%nrm(:, k) = nrm
-            p%nb(:, k) = nrm
-            p%surf(k) = merge(1, 0, l == 1)
-         end do along
+      nz = layers_across(o, zdom, dp, z)
+      call particles_grow(p, ns*o%layers*nz)
+      do m = 1, nz
+         ps(ndim) = z(1) + (m - 0.5_rp)*dp         ! in 2D the section's point below overwrites it
+         do l = 1, o%layers
+            along: do i = 1, ns
+               ps(1:nsec) = a + (i - 0.5_rp)*ds*t - (l - 0.5_rp)*dp*nrm
+               if (inside_earlier_solid(ps, earlier, zdom)) cycle along
+               p%n = p%n + 1
+               k = p%n
+               p%x(:, k) = ps
+               p%xb(:, k) = ps
+               p%kind(k) = merge(kind_filter, kind_fixed, o%role_id == role_filter)
+               p%body(k) = obj
+               p%nrm(:, k) = 0.0_rp
+               p%nrm(1:nsec, k) = nrm
+               p%nb(:, k) = p%nrm(:, k)
+               p%surf(k) = merge(1, 0, l == 1)
+            end do along
+         end do
       end do
    end subroutine add_slope
+
+   !> The lattice layers across the object's width z (its own, or the domain's
+   !> zdom) at spacing dp: 1 in 2D.
+   integer function layers_across(o, zdom, dp, z) result(nz)
+      type(geom_object), intent(in) :: o
+      real(rp), intent(in) :: zdom(2), dp
+      real(rp), intent(out) :: z(2)
+      z = object_width(o, zdom)
+      nz = 1
+      if (ndim == 3) nz = max(1, nint((z(2) - z(1))/dp))
+   end function layers_across
+
+   !> The object's extent across the width (3D): its own, or the domain's zdom.
+   pure function object_width(o, zdom) result(z)
+      type(geom_object), intent(in) :: o
+      real(rp), intent(in) :: zdom(2)
+      real(rp) :: z(2)
+      z = zdom
+      if (o%zr(2) > o%zr(1)) z = o%zr
+   end function object_width
 
    !> Solids may overlap (a slope resting on a floor, boxes sharing a corner):
    !> where they do, the earlier object keeps its particles and the later one
    !> leaves the shared area empty, so no two wall particles sit together.
-   logical function inside_earlier_solid(pt, earlier) result(inside)
-      real(rp), intent(in) :: pt(2)
+   logical function inside_earlier_solid(pt, earlier, zdom) result(inside)
+      real(rp), intent(in) :: pt(ndim), zdom(2)
       type(geom_object), intent(in) :: earlier(:)
       integer :: e
+      real(rp) :: z(2)
       inside = .false.
       do e = 1, size(earlier)
          if (earlier(e)%role_id /= role_solid) cycle
-         if (point_in_polygon(pt, earlier(e)%v)) then
+         if (ndim == 3) then
+            z = object_width(earlier(e), zdom)
+            if (pt(ndim) < z(1) .or. pt(ndim) > z(2)) cycle
+         end if
+         if (point_in_polygon(pt(1:nsec), earlier(e)%v)) then
             inside = .true.
             return
          end if

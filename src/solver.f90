@@ -9,7 +9,7 @@
 module solver
    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use kinds, only: rp, i8, lk
-   use constants, only: kind_fluid, kind_filter, kind_name, ndim
+   use constants, only: kind_fluid, kind_filter, kind_name, ndim, iup
    use input_check, only: int_str, real_str
    use particles, only: particles_t, particles_nan, particles_outside
    use params, only: params_t, kgc_shepard
@@ -273,7 +273,7 @@ contains
       if (.not. moved) return
       call comm_halo_redistribute(r%halo, r%dc, r%p)
       call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h, &
-                     decomp_lo(r%dc), decomp_hi(r%dc))
+                     decomp_lo(r%dc), decomp_hi(r%dc), zmin=r%rc%box(2*ndim - 1), zmax=r%rc%box(2*ndim))
    end subroutine rebalance
 
    !> The Shepard filter's sums, as large as the particle store (made at its
@@ -384,9 +384,9 @@ contains
       ! a count that vectorises; the particle and the field only when it finds one
       if (particles_nan(r%p%n_own, r%p%x, r%p%v, r%p%rho) > 0) then
          do i = 1, r%p%n_own
-            if (ieee_is_nan(r%p%x(1, i)) .or. ieee_is_nan(r%p%x(2, i))) then
+            if (any(ieee_is_nan(r%p%x(:, i)))) then
                what = 'position'
-            else if (ieee_is_nan(r%p%v(1, i)) .or. ieee_is_nan(r%p%v(2, i))) then
+            else if (any(ieee_is_nan(r%p%v(:, i)))) then
                what = 'velocity'
             else if (ieee_is_nan(r%p%rho(i))) then
                what = 'density'
@@ -462,8 +462,8 @@ contains
          nf = 0
          do i = 1, r%p%n_own
             if (r%p%kind(i) /= kind_fluid) cycle
-            ekin = ekin + 0.5_rp*r%p%mass(i)*(r%p%v(1, i)**2 + r%p%v(2, i)**2)
-            epot = epot + r%p%mass(i)*r%prm%g*r%p%x(2, i)
+            ekin = ekin + 0.5_rp*r%p%mass(i)*sum(r%p%v(:, i)**2)
+            epot = epot + r%p%mass(i)*r%prm%g*r%p%x(iup, i)
             mass = mass + r%p%mass(i)
             nf = nf + 1
          end do

@@ -30,6 +30,7 @@ sys.path.insert(0, str(ROOT))  # the package post/ at the repository root
 
 RELEASE = Path(os.environ.get("MBSPH_BINARY", ROOT / "build" / "mbsph"))
 DEBUG = Path(os.environ.get("MBSPH_DEBUG_BINARY", ROOT / "build" / "debug" / "mbsph"))
+RELEASE_3D = Path(os.environ.get("MBSPH3D_BINARY", ROOT / "build" / "mbsph3d"))
 
 #: exit code of the solver for bad input (src/errors.f90)
 EXIT_INPUT = 2
@@ -70,6 +71,12 @@ def _binary_or_skip(path: Path, make_target: str) -> Path:
 def mbsph() -> Path:
     """The release binary build/mbsph; skips the test when it has not been built."""
     return _binary_or_skip(RELEASE, "build/mbsph")
+
+
+@pytest.fixture(scope="session")
+def mbsph3d() -> Path:
+    """The 3D release binary build/mbsph3d; skips the test when it has not been built."""
+    return _binary_or_skip(RELEASE_3D, "mbsph3d")
 
 
 @pytest.fixture(scope="session")
