@@ -1,5 +1,7 @@
 # MBSPH build. `make` builds build/mbsph; `make test` runs every test;
 # `make run` runs the default case and draws its pictures. See README.md.
+# a recipe that fails leaves no target behind (a generated file cut short would look up to date)
+.DELETE_ON_ERROR:
 ifeq ($(origin FC),default)
 FC        = mpif90
 endif
@@ -108,8 +110,9 @@ build/3d/obj/constants.o: build/3d/src/constants.f90 | build/3d/obj build/3d/mod
 	$(FC) $(WARN) $(OPT_release) -Jbuild/3d/mod -c build/3d/src/constants.f90 -o $@
 build/3d/debug/obj/constants.o: build/3d/src/constants.f90 | build/3d/debug/obj build/3d/debug/mod
 	$(FC) $(WARN) $(OPT_debug) -Jbuild/3d/debug/mod -c build/3d/src/constants.f90 -o $@
+# a copy renamed into place: a run of the old binary keeps it
 build/mbsph3d: build/3d/mbsph
-	cp $< $@
+	cp $< $@.tmp && mv $@.tmp $@
 mbsph3d: build/mbsph3d
 -include build/deps.mk build/debug/deps.mk build/3d/deps.mk build/3d/debug/deps.mk
 
@@ -141,7 +144,7 @@ unit-3d: $(UNIT_3D_BIN)
 # them out one per worker instead of giving one worker a block of them all.
 TEST_JOBS ?= $(shell nproc)
 test: deps
-	$(MAKE) -j2 build/mbsph build/debug/mbsph build/mbsph3d
+	$(MAKE) -j2 build/mbsph build/debug/mbsph build/mbsph3d $(UNIT_3D_BIN)
 	$(MAKE) unit unit-debug
 	$(PYTHON) -m pytest -q -n $(TEST_JOBS) --maxschedchunk=1 tests
 

@@ -1,10 +1,13 @@
 !> Rigid-body shapes: outline, mass properties from the geometry, and the
-!> boundary particles (hollow shells of `layers` rows along the outline).
+!> boundary particles (hollow shells of `layers` rows along the outline). In
+!> 3D a body is a box: the section's rectangle times its depth across the
+!> width, turned by its angle about z; its outline is the section's.
 module body_shapes
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
    use kinds, only: rp
-   use constants, only: pi
+   use constants, only: pi, ndim, nsec
+   use rigid, only: nrot
    use input_body, only: body_cfg
    use options, only: shape_circle, shape_box, shape_wedge, shape_polygon
    implicit none
@@ -80,24 +83,112 @@ contains
       cen = cen/(6.0_rp*area)
    end subroutine polygon_props
 
-   !> Mass [kg/m], centre [m] and moment of inertia about the centre
-   !> [kg m] from the shape: the particles carry no mass of their own.
+   !> Mass [kg/m in 2D, kg in 3D], centre [m] and inertia tensor about the
+   !> centre at the start pose [kg m in 2D, kg m2 in 3D] from the shape: the
+   !> particles carry no mass of their own.
    subroutine body_mass_properties(c, mass, cen, inertia)
       type(body_cfg), intent(in) :: c
-      real(rp), intent(out) :: mass, cen(2), inertia
+      real(rp), intent(out) :: mass, cen(ndim), inertia(nrot, nrot)
       real(rp) :: area, j0, rho
+      if (ndim == 3) then
+         call box_mass_properties(c, mass, cen, inertia)
+         return
+      end if
       if (c%shape_id == shape_circle) then
          area = pi*c%radius**2
-         cen = [c%x, c%y]
+         cen(1:nsec) = [c%x, c%y]
          j0 = 0.5_rp*area*c%radius**2
       else
-         call polygon_moments(body_outline(c), area, cen, j0)
+         call polygon_moments(body_outline(c), area, cen(1:nsec), j0)
       end if
       rho = c%density
       if (c%mass > 0.0_rp) rho = c%mass/area
       mass = rho*area
-      inertia = rho*j0
+      inertia(1, 1) = rho*j0
    end subroutine body_mass_properties
+
+   !> A box in 3D: width along x, height along y, depth along z in its own frame,
+   !> turned by its angle about z; mass from the density (or given), the centre
+   !> (x, y, z), the inertia tensor R diag(m (h^2 + d^2)/12, m (w^2 + d^2)/12,
+   !> m (w^2 + h^2)/12) R^T.
+   subroutine box_mass_properties(c, mass, cen, inertia)
+      type(body_cfg), intent(in) :: c
+      real(rp), intent(out) :: mass, cen(ndim), inertia(nrot, nrot)
+      real(rp) :: vol, rho, r3(3, 3), ib(3, 3), i3(3, 3), cen3(3)
+      vol = c%width*c%height*c%depth
+      rho = c%density
+      if (c%mass > 0.0_rp) rho = c%mass/vol
+      mass = rho*vol
+      cen3 = [c%x, c%y, c%z]
+      cen = cen3(1:ndim)
+      ib = 0.0_rp
+      ib(1, 1) = mass*(c%height**2 + c%depth**2)/12.0_rp
+      ib(2, 2) = mass*(c%width**2 + c%depth**2)/12.0_rp
+      ib(3, 3) = mass*(c%width**2 + c%height**2)/12.0_rp
+      r3 = turn_about_z(c%angle*pi/180.0_rp)
+      i3 = matmul(r3, matmul(ib, transpose(r3)))
+      inertia = i3(1:nrot, 1:nrot)
+   end subroutine box_mass_properties
+
+   !> The rotation by a about z, as a 3 x 3 matrix.
+   pure function turn_about_z(a) result(r)
+      real(rp), intent(in) :: a
+      real(rp) :: r(3, 3)
+      r = reshape([cos(a), sin(a), 0.0_rp, -sin(a), cos(a), 0.0_rp, 0.0_rp, 0.0_rp, 1.0_rp], [3, 3])
+   end function turn_about_z
+
+   !> The boundary particles of a 3D box in its own frame (centre at the origin,
+   !> the start angle applied): the points of a lattice of about dp fitted to the
+   !> box (a whole number of spacings along each side) at most layers spacings in
+   !> from its faces; the normal, the outward normal of the nearest face (the mean
+   !> of two or three at an edge or a corner); surf 1 on a face, 2 on an edge or a
+   !> corner (outer layer only), 0 inside.
+   subroutine box_particles(c, dp, layers, xb, nb, surf)
+      type(body_cfg), intent(in) :: c
+      real(rp), intent(in) :: dp
+      integer, intent(in) :: layers
+      real(rp), allocatable, intent(out) :: xb(:, :), nb(:, :)
+      integer, allocatable, intent(out) :: surf(:)
+      integer :: nn(3), i, j, k, m, a, depth_in, n, faces, idx(3), ist
+      real(rp) :: side(3), s(3), pos(3), nrm(3), r3(3, 3)
+      character(len=200) :: emsg
+      side = [c%width, c%height, c%depth]
+      nn = max(1, nint(side/dp))
+      s = side/nn
+      r3 = turn_about_z(c%angle*pi/180.0_rp)
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (xb(ndim, product(nn)), nb(ndim, product(nn)), surf(product(nn)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'xb, nb, surf in box_particles')
+      m = 0
+      do k = 1, nn(3)
+         do j = 1, nn(2)
+            lattice: do i = 1, nn(1)
+               idx = [i, j, k]
+               ! layers in from the nearest face: 1 on the outside
+               depth_in = minval(min(idx, nn + 1 - idx))
+               if (depth_in > layers) cycle lattice
+               pos = -0.5_rp*side + (idx - 0.5_rp)*s
+               nrm = 0.0_rp
+               faces = 0
+               do a = 1, 3
+                  n = min(idx(a), nn(a) + 1 - idx(a))
+                  if (n == depth_in) then
+                     faces = faces + 1
+                     nrm(a) = merge(-1.0_rp, 1.0_rp, idx(a) <= nn(a) + 1 - idx(a))
+                  end if
+               end do
+               m = m + 1
+               xb(:, m) = matmul(r3(1:ndim, :), pos)
+               nb(:, m) = matmul(r3(1:ndim, :), nrm/norm2(nrm))
+               surf(m) = 0
+               if (depth_in == 1) surf(m) = merge(1, 2, faces == 1)
+            end do lattice
+         end do
+      end do
+      xb = xb(:, 1:m)
+      nb = nb(:, 1:m)
+      surf = surf(1:m)
+   end subroutine box_particles
 
    !> Area, centroid and polar second moment of area about the centroid.
    pure subroutine polygon_moments(v, area, cen, j0)
@@ -127,15 +218,19 @@ contains
       integer, intent(in) :: layers
       real(rp), allocatable, intent(out) :: xb(:, :), nb(:, :)
       integer, allocatable, intent(out) :: surf(:)
-      real(rp) :: mass, cen(2), inertia, r, a, ang
+      real(rp) :: mass, cen(ndim), inertia(nrot, nrot), r, a, ang
       real(rp), allocatable :: v(:, :), w(:, :), en(:, :), off(:, :)
       integer :: l, k, m, n, ns, nv, j, cap
       integer :: ist
       character(len=200) :: emsg
+      if (ndim == 3) then
+         call box_particles(c, dp, layers, xb, nb, surf)
+         return
+      end if
       call body_mass_properties(c, mass, cen, inertia)
       cap = 64
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (xb(2, cap), nb(2, cap), surf(cap), stat=ist, errmsg=emsg)
+      allocate (xb(ndim, cap), nb(ndim, cap), surf(cap), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'xb, nb, surf in body_particles')
       n = 0
       if (c%shape_id == shape_circle) then
@@ -153,7 +248,7 @@ contains
          v = body_outline(c)
          nv = size(v, 2)
          do k = 1, nv
-            v(:, k) = v(:, k) - cen
+            v(:, k) = v(:, k) - cen(1:nsec)
          end do
          ! allow(multiple-allocations-with-stat): any of them refused is the same stop
          allocate (en(2, nv), off(2, nv), w(2, nv), stat=ist, errmsg=emsg)
@@ -200,10 +295,10 @@ contains
          character(len=200) :: emsg
          if (n == cap) then
             cap = 2*cap
-            allocate (t2(2, cap), stat=ist, errmsg=emsg)
+            allocate (t2(ndim, cap), stat=ist, errmsg=emsg)
             call alloc_check(ist, emsg, 't2 in push')
             t2(:, 1:n) = xb(:, 1:n); call move_alloc(t2, xb)
-            allocate (t2(2, cap), stat=ist, errmsg=emsg)
+            allocate (t2(ndim, cap), stat=ist, errmsg=emsg)
             call alloc_check(ist, emsg, 't2 in push')
             t2(:, 1:n) = nb(:, 1:n); call move_alloc(t2, nb)
             allocate (t1(cap), stat=ist, errmsg=emsg)
@@ -211,8 +306,10 @@ contains
             t1(1:n) = surf(1:n); call move_alloc(t1, surf)
          end if
          n = n + 1
-         xb(:, n) = pos
-         nb(:, n) = nrm
+         xb(:, n) = 0.0_rp
+         nb(:, n) = 0.0_rp
+         xb(1:nsec, n) = pos
+         nb(1:nsec, n) = nrm
          surf(n) = s
       end subroutine push
    end subroutine body_particles

@@ -86,9 +86,13 @@ contains
          g%ncol = col_hi - col_lo
       end if
       g%ny = g%ncy + 2*g%reach
-      if (ndim == 3 .and. present(zmin) .and. present(zmax)) then
-         g%z0 = zmin
-         g%ncz = max(1, ceiling((zmax - zmin)/g%cs))
+      if (ndim == 3) then
+         ! without a width: one column across (the stencil still needs its ghost columns)
+         g%ncz = 1
+         if (present(zmin) .and. present(zmax)) then
+            g%z0 = zmin
+            g%ncz = max(1, ceiling((zmax - zmin)/g%cs))
+         end if
          g%nzt = g%ncz + 2
       end if
       g%stride = g%nzt*g%ny

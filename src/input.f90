@@ -25,7 +25,7 @@ module input
    use options, only: role_fluid, role_filter, model_dynamic, wall_wavemaker, wave_regular, wave_file, paddle_piston, &
                       gauge_pressure, &
                       integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, bnd_mdbc, visc_laminar_sps, shift_none, &
-                      bnd_dynamic, wall_fixed
+                      bnd_dynamic, wall_fixed, motion_prescribed
    implicit none
    private
    public :: case_cfg, read_case, write_case
@@ -321,6 +321,7 @@ contains
       real(rp), intent(in) :: tol
       integer :: i, k
       real(rp), allocatable :: vi(:, :), vk(:, :)
+      real(rp) :: zi(2)
       character(len=16) :: bi, bk
       integer :: ist
       character(len=200) :: emsg
@@ -333,22 +334,28 @@ contains
              minval(vi(2, :)) < c%domain%ymin - tol .or. maxval(vi(2, :)) > c%domain%ymax + tol) then
             call input_error(c%file, 'body #'//trim(bi), '', 'the body reaches outside the &domain')
          end if
+         zi = body_width(c, c%bodies(i))
+         if (zi(1) < c%domain%zmin - tol .or. zi(2) > c%domain%zmax + tol) then
+            call input_error(c%file, 'body #'//trim(bi), 'z, depth', 'the body reaches outside the &domain across the width')
+         end if
          walls: do k = 1, size(c%objs)
             if (c%objs(k)%role_id == role_fluid) cycle walls
+            if (.not. spans_overlap(zi, object_span(c, c%objs(k)), 0.5_rp*c%numerics%dp)) cycle walls
             if (polygons_overlap(vi, c%objs(k)%v, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
                call input_error(c%file, 'body #'//trim(bi), '', 'the body overlaps the '//trim(c%objs(k)%role)//' &'// &
                                 obj_name(c%objs(k))//' (bodies may touch walls, not cut into them)')
             end if
          end do walls
-         do k = 1, i - 1
+         earlier: do k = 1, i - 1
             write (bk, '(i0)') k
             if (allocated(vk)) deallocate (vk)
             allocate (vk, source=body_outline(c%bodies(k)), stat=ist, errmsg=emsg)
             call alloc_check(ist, emsg, 'vk in check_bodies')
+            if (.not. spans_overlap(zi, body_width(c, c%bodies(k)), 0.5_rp*c%numerics%dp)) cycle earlier
             if (polygons_overlap(vi, vk, 1.0e-9_rp, 0.5_rp*c%numerics%dp)) then
               call input_error(c%file, 'body #'//trim(bi), '', 'the body overlaps &body #'//trim(bk))
             end if
-         end do
+         end do earlier
       end do
    end subroutine check_bodies
 
@@ -402,15 +409,33 @@ contains
    pure logical function widths_overlap(c, a, b) result(yes)
       type(case_cfg), intent(in) :: c
       type(geom_object), intent(in) :: a, b
-      real(rp) :: za(2), zb(2)
-      yes = .true.
-      if (ndim == 2) return
-      za = [c%domain%zmin, c%domain%zmax]
-      zb = za
-      if (a%zr(2) > a%zr(1)) za = a%zr
-      if (b%zr(2) > b%zr(1)) zb = b%zr
-      yes = min(za(2), zb(2)) - max(za(1), zb(1)) > 0.5_rp*c%numerics%dp
+      yes = spans_overlap(object_span(c, a), object_span(c, b), 0.5_rp*c%numerics%dp)
    end function widths_overlap
+
+   !> Whether two extents across the width overlap by more than gap (always in 2D).
+   pure logical function spans_overlap(za, zb, gap) result(yes)
+      real(rp), intent(in) :: za(2), zb(2), gap
+      yes = ndim == 2
+      if (ndim == 3) yes = min(za(2), zb(2)) - max(za(1), zb(1)) > gap
+   end function spans_overlap
+
+   !> An object's extent across the width: its own, or the domain's.
+   pure function object_span(c, o) result(z)
+      type(case_cfg), intent(in) :: c
+      type(geom_object), intent(in) :: o
+      real(rp) :: z(2)
+      z = [c%domain%zmin, c%domain%zmax]
+      if (o%zr(2) > o%zr(1)) z = o%zr
+   end function object_span
+
+   !> A body's extent across the width (3D; the domain's in 2D).
+   pure function body_width(c, b) result(z)
+      type(case_cfg), intent(in) :: c
+      type(body_cfg), intent(in) :: b
+      real(rp) :: z(2)
+      z = [c%domain%zmin, c%domain%zmax]
+      if (ndim == 3) z = b%z + 0.5_rp*[-b%depth, b%depth]
+   end function body_width
 
    !> What the 3D build does not model yet stops at input, by name (doc/3d.md):
    !> water, boxes, polygons and slopes between walls of particles are there.
@@ -418,7 +443,11 @@ contains
       type(case_cfg), intent(in) :: c
       character(len=*), parameter :: later = 'not yet in the 3D build (doc/3d.md lists what is); '// &
                                              'the 2D build (build/mbsph) has it'
-      if (size(c%bodies) > 0) call input_error(c%file, 'body #1', '', 'rigid bodies are '//later)
+      integer :: k
+      do k = 1, size(c%bodies)
+         if (c%bodies(k)%motion_id == motion_prescribed) call input_error(c%file, 'body #'//int_str(k), 'motion', &
+                                                                          "a body with motion = 'prescribed' is "//later)
+      end do
       if (c%wavemaker%on) call input_error(c%file, 'wavemaker', '', 'a wavemaker is '//later)
       if (c%breakwater%on) call input_error(c%file, 'breakwater', '', 'the breakwater builder is '//later)
       if (c%armour%on) call input_error(c%file, 'armour', '', 'an armour layer is '//later)
@@ -428,6 +457,9 @@ contains
       if (c%numerics%boundary_id /= bnd_dynamic) call input_error(c%file, 'numerics', 'boundary', &
                                                                    "only 'dynamic' is in the 3D build yet: "//later)
       if (c%numerics%shift_id /= shift_none) call input_error(c%file, 'numerics', 'shifting', 'shifting is '//later)
-      if (any(c%objs%motion_id /= wall_fixed)) call input_error(c%file, 'box', 'motion', 'moving walls are '//later)
+      do k = 1, size(c%objs)
+         if (c%objs(k)%motion_id /= wall_fixed) call input_error(c%file, obj_name(c%objs(k)), 'motion', &
+                                                                 'moving walls are '//later)
+      end do
    end subroutine refuse_in_3d
 end module input

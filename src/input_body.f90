@@ -2,7 +2,7 @@
 !> bodies and between a body and a wall.
 module input_body
    use kinds, only: rp
-   use constants, only: name_len, msg_len, pi
+   use constants, only: name_len, msg_len, pi, ndim
    use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, group_count, &
                           int_str, real_str
    use errors, only: input_error, alloc_check
@@ -23,11 +23,13 @@ module input_body
       real(rp) :: x = 0.0_rp, y = 0.0_rp               !< centre (circle, box) [m]
       real(rp) :: radius = 0.0_rp                      !< circle radius [m]
       real(rp) :: width = 0.0_rp, height = 0.0_rp      !< box sides [m]
+      real(rp) :: z = 0.0_rp                           !< 3D: centre across the width [m]
+      real(rp) :: depth = 0.0_rp                       !< 3D: box side across the width [m]
       real(rp) :: angle = 0.0_rp                       !< initial rotation [deg], counter-clockwise
       integer :: nvert = 0                             !< polygon / wedge vertices
       real(rp) :: vx(body_max_vert) = 0.0_rp, vy(body_max_vert) = 0.0_rp
       real(rp) :: density = 0.0_rp                     !< [kg/m3]; or
-      real(rp) :: mass = 0.0_rp                        !< [kg/m] (2D: per metre of width)
+      real(rp) :: mass = 0.0_rp                        !< [kg/m] in 2D (per metre of width), [kg] in 3D
       character(len=name_len) :: motion = 'floating'   !< 'floating' | 'fixed' | 'prescribed'
       integer :: motion_id = motion_floating           !< motion as its value in options (motion_*)
       real(rp) :: u = 0.0_rp, v = 0.0_rp               !< initial (or prescribed) velocity [m/s]
@@ -63,11 +65,12 @@ module input_body
    type(body_cfg) :: dflt
    character(len=name_len) :: shape, motion, model
    real(rp) :: x, y, radius, width, height, angle, density, mass, u, v, omega, mu, restitution, young, poisson
+   real(rp) :: z, depth
    real(rp) :: amplitude_x, amplitude_y, amplitude_angle, period, phase
    real(rp) :: vx(body_max_vert), vy(body_max_vert)
    integer :: nvert, layers
    namelist /body/ shape, x, y, radius, width, height, angle, nvert, vx, vy, density, mass, motion, u, v, &
-      omega, amplitude_x, amplitude_y, amplitude_angle, period, phase, mu, restitution, young, poisson, layers
+      omega, amplitude_x, amplitude_y, amplitude_angle, period, phase, mu, restitution, young, poisson, layers, z, depth
    real(rp) :: r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier, core_overlap
    namelist /contact/ model, r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier, core_overlap
 
@@ -80,7 +83,7 @@ contains
       motion = c%motion; u = c%u; v = c%v; omega = c%omega; mu = c%mu; restitution = c%restitution
       young = c%young; poisson = c%poisson; layers = c%layers
       amplitude_x = c%amplitude_x; amplitude_y = c%amplitude_y; amplitude_angle = c%amplitude_angle
-      period = c%period; phase = c%phase
+      period = c%period; phase = c%phase; z = c%z; depth = c%depth
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -90,7 +93,7 @@ contains
       c%motion = motion; c%u = u; c%v = v; c%omega = omega; c%mu = mu; c%restitution = restitution
       c%young = young; c%poisson = poisson; c%layers = layers
       c%amplitude_x = amplitude_x; c%amplitude_y = amplitude_y; c%amplitude_angle = amplitude_angle
-      c%period = period; c%phase = phase
+      c%period = period; c%phase = phase; c%z = z; c%depth = depth
    end subroutine from_vars
 
    subroutine read_bodies(file, dp, bodies)
@@ -158,10 +161,28 @@ contains
                'speeds above 1000 m/s ('//real_str(max(abs(c%u), abs(c%v)))//') are not meant')
             if (abs(c%omega) > 1.0e3_rp*pi) call input_error(file, g, 'omega', 'above 1000 pi rad/s')
             call check_oscillation(file, g, c)
+            call check_width(file, g, c, dp)
          end associate
       end do
       close (u_)
    end subroutine read_bodies
+
+   !> The body across the width: in 3D a box of side depth, centred at z; in 2D
+   !> neither is given.
+   subroutine check_width(file, g, c, dp)
+      character(len=*), intent(in) :: file, g
+      type(body_cfg), intent(in) :: c
+      real(rp), intent(in) :: dp
+      if (ndim == 2) then
+         if (abs(c%z) > 0.0_rp .or. abs(c%depth) > 0.0_rp) call input_error(file, g, &
+            trim(merge('z    ', 'depth', abs(c%z) > 0.0_rp)), 'a body across the width is for the 3D build (build/mbsph3d); '// &
+            'leave it out in 2D')
+         return
+      end if
+      if (c%shape_id /= shape_box) call input_error(file, g, 'shape', 'the 3D build has box bodies only yet '// &
+                                                    "(doc/3d.md): 'box'; got '"//trim(c%shape)//"'")
+      call check_real(file, g, 'depth', c%depth, 2.0_rp*dp, 1.0e4_rp)
+   end subroutine check_width
 
    !> The oscillation of a prescribed body: amplitudes, period and phase.
    subroutine check_oscillation(file, g, c)

@@ -2,7 +2,7 @@
 !> force and torque split by source and the displacement from the start.
 module io_bodies
    use kinds, only: rp
-   use constants, only: msg_len
+   use constants, only: msg_len, ndim, iup
    use io_files, only: csv_rows_until, csv_flush
    use body_dynamics, only: body_t
    use rigid, only: rigid_angle, rigid_pose_pack
@@ -16,9 +16,15 @@ module io_bodies
       integer :: unit = 0
       logical :: opened = .false.   !< newunit= numbers are negative: keep a flag
    end type bodies_csv_t
-   character(len=*), parameter :: header = 'time,body,x,y,angle,u,v,omega,fx_fluid,fy_fluid,torque_fluid,'// &
-                                           'fx_contact,fy_contact,torque_contact,fx_friction,fy_friction,'// &
-                                           'torque_friction,fx_gravity,fy_gravity,displacement,rotation'
+   character(len=*), parameter :: header2 = 'time,body,x,y,angle,u,v,omega,fx_fluid,fy_fluid,torque_fluid,'// &
+                                            'fx_contact,fy_contact,torque_contact,fx_friction,fy_friction,'// &
+                                            'torque_friction,fx_gravity,fy_gravity,displacement,rotation'
+   !> 3D: the pose as centre and unit quaternion, vectors of three components, torques about x, y, z
+   character(len=*), parameter :: header3 = 'time,body,x,y,z,qw,qx,qy,qz,u,v,w,omega_x,omega_y,omega_z,'// &
+                                            'fx_fluid,fy_fluid,fz_fluid,tx_fluid,ty_fluid,tz_fluid,'// &
+                                            'fx_contact,fy_contact,fz_contact,tx_contact,ty_contact,tz_contact,'// &
+                                            'fx_friction,fy_friction,fz_friction,tx_friction,ty_friction,tz_friction,'// &
+                                            'fx_gravity,fy_gravity,fz_gravity,displacement,rotation'
 
 contains
 
@@ -37,7 +43,11 @@ contains
       open (newunit=bf%unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
       bf%opened = .true.
-      write (bf%unit, '(a)') header
+      if (ndim == 2) then
+         write (bf%unit, '(a)') header2
+      else
+         write (bf%unit, '(a)') header3
+      end if
       if (len(keep) > 0) write (bf%unit, '(a)', advance='no') keep
       call csv_flush(bf%unit, 'bodies.csv')
    end subroutine bodies_csv_open
@@ -47,11 +57,14 @@ contains
       real(rp), intent(in) :: t
       type(body_t), intent(in) :: bodies(:)
       integer :: b
+      real(rp) :: fg(ndim)
       if (.not. bf%opened) return
       do b = 1, size(bodies)
          associate (x => bodies(b))
-            write (bf%unit, '(es23.15e3,",",i0,19(",",es23.15e3))') t, b, rigid_pose_pack(x%pose), x%v, x%omega, &
-               x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric, 0.0_rp, -x%mass*x%g, &
+            fg = 0.0_rp
+            fg(iup) = -x%mass*x%g
+            write (bf%unit, '(es23.15e3,",",i0,*(:,",",es23.15e3))') t, b, rigid_pose_pack(x%pose), x%v, x%omega, &
+               x%f_fluid, x%t_fluid, x%f_normal, x%t_normal, x%f_fric, x%t_fric, fg, &
                norm2(x%pose%c - x%pose_start%c), rigid_angle(x%pose, x%pose_start)
          end associate
       end do

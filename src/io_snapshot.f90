@@ -4,7 +4,7 @@
 !> order; on several, readers order by the /id dataset (post/io.py does).
 module io_snapshot
    use kinds, only: rp
-   use constants, only: msg_len, ndim
+   use constants, only: msg_len, ndim, nsec
    use particles, only: particles_t, particles_field, field_on, fields, nfield
    use params, only: params_t
    use io_hdf5, only: hid_t, h5_create, h5_open_read, h5_close, h5_write, h5_write_part, h5_attr_write, &
@@ -159,7 +159,7 @@ contains
       integer :: b, k, m, nv
       integer, allocatable :: start(:)
       real(rp), allocatable :: xy(:, :), pose(:, :)
-      real(rp) :: rot(ndim, ndim)
+      real(rp) :: rot(ndim, ndim), r(ndim)
       integer :: ist
       character(len=200) :: emsg
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
@@ -169,7 +169,8 @@ contains
       do b = 1, size(bodies)
          start(b + 1) = start(b) + size(bodies(b)%outline, 2)
       end do
-      allocate (xy(2, start(size(bodies) + 1)), stat=ist, errmsg=emsg)
+      ! the outline of the section (in 3D at the body's centre across the width)
+      allocate (xy(ndim, start(size(bodies) + 1)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'xy in write_outlines')
       m = 0
       do b = 1, size(bodies)
@@ -177,7 +178,9 @@ contains
          nv = size(bodies(b)%outline, 2)
          do k = 1, nv
             m = m + 1
-            xy(:, m) = bodies(b)%pose%c + rigid_rotate(rot, bodies(b)%outline(:, k))
+            r = 0.0_rp
+            r(1:nsec) = bodies(b)%outline(:, k)
+            xy(:, m) = bodies(b)%pose%c + rigid_rotate(rot, r)
          end do
          pose(:, b) = rigid_pose_pack(bodies(b)%pose)
       end do

@@ -35,6 +35,7 @@ module scene
 
    type :: outline_t
       real(rp), allocatable :: v(:, :)
+      real(rp) :: zr(2) = [-huge(1.0_rp), huge(1.0_rp)]   !< 3D: its extent across the width [m]
    end type outline_t
 
 contains
@@ -62,6 +63,7 @@ contains
       call alloc_check(ist, emsg, 'holes in scene_build')
       do k = 1, size(c%bodies)
          holes(k)%v = body_outline(c%bodies(k))
+         if (ndim == 3) holes(k)%zr = c%bodies(k)%z + 0.5_rp*[-c%bodies(k)%depth, c%bodies(k)%depth]
       end do
       por = scene_porous(c)
       zdom = [c%domain%zmin, c%domain%zmax]
@@ -175,7 +177,7 @@ contains
       integer, allocatable :: surf(:)
       integer :: k, m
       real(rp), parameter :: deg = 3.14159265358979323846_rp/180.0_rp
-      call body_mass_properties(bc, b%mass, b%pose%c, b%inertia(1, 1))
+      call body_mass_properties(bc, b%mass, b%pose%c, b%inertia)
       call body_particles(bc, dp, layers, xb, nb, surf)
       b%motion = bc%motion_id  ! the values of options: motion_floating, motion_fixed, motion_prescribed
       b%id = id
@@ -201,7 +203,7 @@ contains
       b%rbound = maxval(norm2(xb, dim=1)) + 0.5_rp*dp
       b%outline = body_outline(bc)
       do k = 1, size(b%outline, 2)
-         b%outline(:, k) = b%outline(:, k) - b%pose%c
+         b%outline(:, k) = b%outline(:, k) - b%pose%c(1:nsec)
       end do
       if (.not. present(p)) return
       m = size(surf)
@@ -252,7 +254,7 @@ contains
                if (.not. point_in_polygon(pt, o%v)) cycle columns
                if (o%role_id == role_solid) then
                   if (inside_earlier_solid(ps, objs(1:obj - 1), zdom)) cycle columns
-               else if (in_hole(pt, holes, por, dp)) then
+               else if (in_hole(ps, holes, por, dp)) then
                   cycle columns
                end if
                p%n = p%n + 1
@@ -324,17 +326,21 @@ contains
 
    end subroutine add_lattice
 
-   !> Inside a body, or closer to its outline than half a spacing dp; or among
+   !> Inside a body, or closer to its outline than half a spacing dp (in 3D:
+   !> and within its extent across the width, grown by as much); or among
    !> stones, whose water add_pore_water places.
    logical function in_hole(pt, holes, por, dp)
-      real(rp), intent(in) :: pt(2), dp
+      real(rp), intent(in) :: pt(ndim), dp
       type(outline_t), intent(in) :: holes(:)
       type(porous_t), intent(in) :: por
       integer :: h
-      in_hole = in_pores(por, pt)
+      in_hole = in_pores(por, pt(1:nsec))
       do h = 1, size(holes)
-         in_hole = in_hole .or. point_in_polygon(pt, holes(h)%v) .or. &
-                   distance_to_polygon(pt, holes(h)%v) < 0.499_rp*dp
+         if (ndim == 3) then
+            if (pt(ndim) < holes(h)%zr(1) - 0.499_rp*dp .or. pt(ndim) > holes(h)%zr(2) + 0.499_rp*dp) cycle
+         end if
+         in_hole = in_hole .or. point_in_polygon(pt(1:nsec), holes(h)%v) .or. &
+                   distance_to_polygon(pt(1:nsec), holes(h)%v) < 0.499_rp*dp
       end do
    end function in_hole
 

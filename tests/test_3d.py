@@ -104,52 +104,41 @@ def tank2d(tmp_path_factory: pytest.TempPathFactory, mbsph: Path) -> Path:
     return out
 
 
-def test_3d_tank_is_three_dimensional(tank3d: Path) -> None:
-    snap = read_snapshot(snapshots(tank3d)[0])
-    assert snap.position.shape[1] == 3 and snap.velocity.shape[1] == 3
-    z = snap.position[snap.fluid, 2]
+def test_3d_still_tank(tank3d: Path, tank2d: Path) -> None:
+    # one test for the one 3D run (its fixture would run again on the other pytest-xdist worker)
+    first, last = (read_snapshot(p) for p in (snapshots(tank3d)[0], snapshots(tank3d)[-1]))
+    assert first.position.shape[1] == 3 and first.velocity.shape[1] == 3
+    z = first.position[first.fluid, 2]
     # six layers of water across the width, half a spacing in from the side walls
     assert np.unique(np.round(z / DP, 6)).size == round(WIDTH / DP)
     assert z.min() == pytest.approx(0.5 * DP) and z.max() == pytest.approx(WIDTH - 0.5 * DP)
     # each particle carries rho0 dp^3: the water's mass is rho0 times its volume
-    mass = snap.mass[snap.fluid].sum()
-    assert mass == pytest.approx(RHO0 * LENGTH * H * WIDTH, rel=1e-12)
+    assert first.mass[first.fluid].sum() == pytest.approx(RHO0 * LENGTH * H * WIDTH, rel=1e-12)
 
-
-def test_3d_tank_bed_pressure(tank3d: Path) -> None:
-    err, snap = bed_error(tank3d)
-    assert snap.time >= T_SETTLE
-    # 1 %: the bar of the 3D issue for the still tank's bed pressure (rho0 g H)
-    assert abs(err) <= 0.01, f"bed pressure at t = {snap.time:.3f} s off by {100 * err:+.2f} % (bar 1 %)"
-
-
-def test_3d_tank_matches_the_2d_solver(tank3d: Path, tank2d: Path) -> None:
-    # the same section, spacing and models in both builds: the still water's pressure is
-    # the same physics, so the bed pressures agree to within the unsteadiness of either
-    # (0.5 % of rho0 g H: the tank's slow sloshing at t > 20 sqrt(H/g) moves it by less)
     err3, snap3 = bed_error(tank3d)
-    err2, snap2 = bed_error(tank2d)
-    assert abs(err3 - err2) <= 0.005, (f"bed pressure: 3D {100 * err3:+.2f} %, 2D {100 * err2:+.2f} % of "
-                                       f"rho0 g H at t = {snap3.time:.3f} s")
+    assert snap3.time >= T_SETTLE
+    # 1 %: the bar of the 3D issue for the still tank's bed pressure (rho0 g H)
+    assert abs(err3) <= 0.01, f"bed pressure at t = {snap3.time:.3f} s off by {100 * err3:+.2f} % (bar 1 %)"
+    # the same section, spacing and models in both builds: the same physics. In the tank
+    # of doc/3d.md the two bed pressures differ by 0.14, 0.01 and 0.00 % of rho0 g H at
+    # 1.0, 1.5 and 2.1 s (the slow sloshing of the start moves each); 0.5 % is that
+    # spread with room for the narrower tank here
+    err2, _ = bed_error(tank2d)
+    assert abs(err3 - err2) <= 0.005, f"bed pressure: 3D {100 * err3:+.2f} %, 2D {100 * err2:+.2f} % of rho0 g H"
 
-
-def test_3d_tank_is_at_rest_and_loses_nothing(tank3d: Path) -> None:
-    first, last = (read_snapshot(p) for p in (snapshots(tank3d)[0], snapshots(tank3d)[-1]))
     speed = np.linalg.norm(last.velocity[last.fluid], axis=1)
     # 1e-3 sqrt(gH): the still-water bar of the 2D tank (sqrt(gH): the speed of gravity waves)
     assert speed.mean() <= 1e-3 * math.sqrt(G * H), f"mean speed {speed.mean():.2e} m/s at t = {last.time:.3f} s"
     assert int(last.fluid.sum()) == int(first.fluid.sum())
     assert np.all(read_csv(tank3d / "energy.csv")["lost"] == 0)
-    # the side walls hold the water: every particle within the width, half a spacing in
+    # the side walls hold the water: every particle within the width
     z = last.position[last.fluid, 2]
     assert z.min() > 0.0 and z.max() < WIDTH, f"water beyond the side walls: z in [{z.min()}, {z.max()}]"
 
-
-def test_3d_xdmf_describes_three_components(tank3d: Path) -> None:
+    # the XDMF describes three components
     text = (tank3d / "particles.xmf").read_text()
     assert 'GeometryType="XYZ"' in text and 'GeometryType="XY"' not in text
-    n = read_snapshot(snapshots(tank3d)[0]).position.shape[0]
-    assert f'Dimensions="{n} 3"' in text
+    assert f'Dimensions="{first.position.shape[0]} 3"' in text
 
 
 def test_3d_restart_is_bit_identical(tmp_path: Path, mbsph3d: Path) -> None:
@@ -180,8 +169,13 @@ def test_2d_checkpoint_is_refused_by_the_3d_solver(tmp_path: Path, mbsph: Path, 
 
 @pytest.mark.parametrize("where, edit, words", [
     ("&domain: zmax:", lambda t: re.sub(r"(&domain[^/]*zmax = )[-0-9.e]+", r"\g<1>-1.0", t), ("greater than zmin",)),
-    ("&body #1:", lambda t: t + "&body shape = 'box', x = 0.05, y = 0.05, width = 0.02, height = 0.02, "
-                                "density = 500.0 /\n", ("not yet in the 3D build",)),
+    ("&body #1: shape:", lambda t: t + "&body shape = 'circle', x = 0.05, y = 0.05, radius = 0.02, "
+                                       "density = 500.0 /\n", ("box bodies only",)),
+    ("&body #1: depth:", lambda t: t + "&body shape = 'box', x = 0.05, y = 0.05, z = 0.015, width = 0.02, "
+                                       "height = 0.02, density = 500.0 /\n", ("allowed range",)),
+    ("&body #1: motion:", lambda t: t + "&body shape = 'box', x = 0.05, y = 0.05, z = 0.015, width = 0.02, "
+                                        "height = 0.02, depth = 0.02, motion = 'prescribed', u = 0.1 /\n",
+     ("not yet in the 3D build",)),
     ("&numerics: boundary:", lambda t: t.replace("  cfl = 0.2\n", "  cfl = 0.2\n  boundary = 'mdbc'\n"),
      ("not yet in the 3D build",)),
 ])
@@ -211,14 +205,15 @@ def test_2d_refuses_a_width(text: str, tmp_path: Path, mbsph: Path) -> None:
     assert not out.exists()
 
 
-def test_3d_on_two_ranks_and_a_restart_on_one(tmp_path: Path, mbsph3d: Path) -> None:
+@pytest.mark.parametrize("kgc", ["none", "gradient"])
+def test_3d_on_two_ranks_and_a_restart_on_one(kgc: str, tmp_path: Path, mbsph3d: Path) -> None:
     # the slabs along x cut the tank across its length: 200 steps on two ranks give the
-    # one-rank answer, and 100 steps on two ranks restarted on one for 100 more give it too,
+    # one-rank answer (with the gradient correction over the pair lists of the columns too), and 100 steps on two ranks restarted on one for 100 more give it too,
     # within 1e-10 of each field's scale (the order of the sums differs: issue 5's bar)
     from test_mpi import run
 
     def text(steps: int, restart: bool = False) -> str:
-        return tank3d_text(t_end=1.0, dt_out=1.0,
+        return tank3d_text(t_end=1.0, dt_out=1.0, kgc=kgc,
                            run=f"max_steps = {steps}, restart = {'.true.' if restart else '.false.'}")
 
     proc, one = run(text(200), tmp_path / "one", 1, mbsph3d)
@@ -239,3 +234,110 @@ def test_3d_on_two_ranks_and_a_restart_on_one(tmp_path: Path, mbsph3d: Path) -> 
             scale = float(np.max(np.abs(x)))
             err = float(np.max(np.abs(x - y)))
             assert err <= 1e-10 * scale, f"{what}: {name} differs by {err / scale:.2e} of its scale"
+
+
+# ------------------------------------------------------------------ a floating cube
+
+CUBE = 0.1        # side of the cube (m): ten particles across at dp = 0.01 m
+CUBE_DP = 0.01
+FLOAT_T = 2.0     # s; the draft is the mean of the snapshots from 1 s on
+
+FLOAT_3D = """&run case_name = 'float3d', t_end = {t}, dt_out = 0.125, out_dir = 'OUT' /
+&domain xmin = -0.04, xmax = 0.34, ymin = -0.04, ymax = 0.25, zmin = -0.04, zmax = 0.24 /
+&fluid rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = 9.81 /
+&numerics dp = 0.01 /
+&box role = 'fluid', xmin = 0.0, xmax = 0.3, ymin = 0.0, ymax = 0.1, zmin = 0.0, zmax = 0.2 /
+&box role = 'solid', xmin = -0.03, xmax = 0.33, ymin = -0.03, ymax = 0.0, zmin = -0.03, zmax = 0.23 /
+&box role = 'solid', xmin = -0.03, xmax = 0.0, ymin = 0.0, ymax = 0.2, zmin = -0.03, zmax = 0.23 /
+&box role = 'solid', xmin = 0.3, xmax = 0.33, ymin = 0.0, ymax = 0.2, zmin = -0.03, zmax = 0.23 /
+&box role = 'solid', xmin = 0.0, xmax = 0.3, ymin = 0.0, ymax = 0.2, zmin = -0.03, zmax = 0.0 /
+&box role = 'solid', xmin = 0.0, xmax = 0.3, ymin = 0.0, ymax = 0.2, zmin = 0.2, zmax = 0.23 /
+&body shape = 'box', x = 0.15, y = 0.11, z = 0.1, width = 0.1, height = 0.1, depth = 0.1, density = 500.0 /
+"""
+
+FLOAT_2D = """&run case_name = 'float2d', t_end = {t}, dt_out = 0.125, out_dir = 'OUT' /
+&domain xmin = -0.04, xmax = 0.34, ymin = -0.04, ymax = 0.25 /
+&fluid rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = 9.81 /
+&numerics dp = 0.01 /
+&box role = 'fluid', xmin = 0.0, xmax = 0.3, ymin = 0.0, ymax = 0.1 /
+&box role = 'solid', xmin = -0.03, xmax = 0.33, ymin = -0.03, ymax = 0.0 /
+&box role = 'solid', xmin = -0.03, xmax = 0.0, ymin = 0.0, ymax = 0.2 /
+&box role = 'solid', xmin = 0.3, xmax = 0.33, ymin = 0.0, ymax = 0.2 /
+&body shape = 'box', x = 0.15, y = 0.11, width = 0.1, height = 0.1, density = 500.0 /
+"""
+
+
+def draft(out: Path, t0: float) -> float:
+    """The body's draft, mean of the snapshots from t0 on: the water level beside the end
+    walls (the top particles' mean height plus dp/2) less the height of its bottom."""
+    b = read_csv(out / "bodies.csv")
+    drafts = []
+    for path in snapshots(out):
+        s = read_snapshot(path)
+        if s.time < t0:
+            continue
+        f = s.position[s.fluid]
+        level = np.mean([np.sort(f[(f[:, 0] > lo) & (f[:, 0] < lo + 0.05), 1])[-5:].mean() + 0.5 * CUBE_DP
+                         for lo in (0.0, 0.25)])
+        j = int(np.argmin(np.abs(b["time"] - s.time)))
+        drafts.append(level - (b["y"][j] - 0.5 * CUBE))
+    return float(np.mean(drafts))
+
+
+def test_3d_floating_cube(tmp_path: Path, mbsph: Path, mbsph3d: Path) -> None:
+    # a cube of half the water's density let go 10 mm above its Archimedes position, in a
+    # tank with walls all round; and the same section in 2D (a bar of the same box)
+    (tmp_path / "3d").mkdir()
+    (tmp_path / "2d").mkdir()
+    proc, out3 = run_case(FLOAT_3D.format(t=FLOAT_T), tmp_path / "3d", binary=mbsph3d, timeout=900.0)
+    assert_ok(proc)
+    proc, out2 = run_case(FLOAT_2D.format(t=FLOAT_T), tmp_path / "2d", binary=mbsph)
+    assert_ok(proc)
+    b = read_csv(out3 / "bodies.csv")
+    late = b["time"] >= 1.0
+    # at rest the water carries the weight (rho_b g V = 4.905 N): 1 % of it
+    weight = -float(np.mean(b["fy_gravity"][late]))
+    assert weight == pytest.approx(500.0 * G * CUBE**3, rel=1e-12)
+    lift = float(np.mean(b["fy_fluid"][late]))
+    assert abs(lift - weight) <= 0.01 * weight, f"fluid force {lift:.4f} N on a weight of {weight:.4f} N"
+    # upright and in place: it has no reason to turn or drift in a still tank
+    assert np.max(b["rotation"]) <= 1e-3, f"turned by {np.max(b['rotation']):.2e} rad"
+    assert np.max(np.abs(b["x"] - 0.15)) <= 1e-3 and np.max(np.abs(b["z"] - 0.1)) <= 1e-3
+    d3, d2 = draft(out3, 1.0), draft(out2, 1.0)
+    exact = 500.0 / RHO0 * CUBE
+    # the 3D cube and the 2D bar of the same section float alike: the dynamic boundary's
+    # gap under the body is the same in both builds (measured: 47.3 and 47.0 mm); within a
+    # tenth of a spacing
+    assert abs(d3 - d2) <= 0.1 * CUBE_DP, f"draft 3D {1e3 * d3:.2f} mm, 2D {1e3 * d2:.2f} mm"
+    # against Archimedes: the gap of the dynamic boundary lifts the body by less than half
+    # a spacing (doc/mdbc.md; mDBC, which closes it, is not in the 3D build yet)
+    assert abs(d3 - exact) <= 0.5 * CUBE_DP, f"draft {1e3 * d3:.2f} mm, Archimedes {1e3 * exact:.1f} mm"
+
+
+# ------------------------------------------------------------------ contact
+
+STACK = """&run case_name = 'stack3d', t_end = 0.3, dt_out = 0.1, out_dir = 'OUT' /
+&domain xmin = -0.1, xmax = 0.4, ymin = -0.1, ymax = 0.4, zmin = -0.1, zmax = 0.3 /
+&fluid rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = 9.81 /
+&numerics dp = 0.02 /
+&box role = 'solid', xmin = -0.06, xmax = 0.36, ymin = -0.06, ymax = 0.0, zmin = -0.06, zmax = 0.26 /
+&body shape = 'box', x = 0.15, y = 0.05, z = 0.1, width = 0.1, height = 0.1, depth = 0.1, density = 2400.0 /
+&body shape = 'box', x = 0.15, y = 0.15, z = 0.1, width = 0.1, height = 0.1, depth = 0.1, density = 2400.0 /
+&body shape = 'box', x = 0.15, y = 0.25, z = 0.1, width = 0.1, height = 0.1, depth = 0.1, density = 2400.0 /
+"""
+
+
+def test_3d_stacked_cubes_rest(tmp_path: Path, mbsph3d: Path) -> None:
+    # three concrete cubes stacked on a floor, dry, with the default contact model (the
+    # seed paper's Eq. 6 with its static spring): each rests, the contact carrying its
+    # weight within 0.2 % (the 3D issue's bar), and none turns or sinks
+    proc, out = run_case(STACK, tmp_path, binary=mbsph3d)
+    assert_ok(proc)
+    b = read_csv(out / "bodies.csv")
+    for k in (1, 2, 3):
+        mine = (b["body"] == k) & (b["time"] >= 0.15)
+        ratio = float(np.mean(b["fy_contact"][mine]) / np.mean(-b["fy_gravity"][mine]))
+        assert abs(ratio - 1.0) <= 0.002, f"cube {k}: contact force / weight = {ratio:.5f}"
+        sink = 0.05 + 0.1 * (k - 1) - float(b["y"][mine][-1])
+        assert abs(sink) <= 0.01 * 0.02, f"cube {k} sank by {sink:.2e} m (a hundredth of a spacing allowed)"
+        assert float(np.max(b["rotation"][b["body"] == k])) <= 1e-6
