@@ -39,7 +39,7 @@ LIBNAMES  := $(filter-out mbsph,$(NAMES))
 UNIT_SRC  := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT      := $(basename $(notdir $(UNIT_SRC)))
 
-.PHONY: mbsph3d all debug deps test wave-heights unit unit-debug unit-3d run dambreak breakwater breakwater_core porous_waves lint bench bench-mpi bench-effects clean figures paper stability study porous damage
+.PHONY: mbsph3d run3d all debug deps test wave-heights unit unit-debug unit-3d run dambreak breakwater breakwater_core porous_waves lint bench bench-mpi bench-effects clean figures paper stability study porous damage
 all: build/mbsph
 debug: build/debug/mbsph
 
@@ -161,6 +161,12 @@ run: deps build/mbsph
 	$(MPIRUN) -np $(RANKS) build/mbsph input/demo_breakwater.nml
 	$(PYTHON) -m post.plot_field OUT/demo_breakwater --field velocity --times 2.0 3.5 5.0 6.0
 	$(PYTHON) -m post.armour OUT/demo_breakwater --out OUT/demo_breakwater
+
+# a small 3D scene on two ranks (doc/3d.md): cubes on a slope and a floating one in a
+# tank with walls all round, drawn in perspective at four times
+run3d: deps build/mbsph3d
+	$(MPIRUN) -np $(RANKS) build/mbsph3d input/run3d.nml
+	$(PYTHON) -m post.plot_3d OUT/run3d --times 0.0 0.4 0.8 1.2
 
 # the dam break of the foundation (Martin and Moyce), with its comparison
 dambreak: deps build/mbsph

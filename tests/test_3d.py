@@ -8,14 +8,17 @@ short; each tolerance says where it comes from.
 
 from __future__ import annotations
 
+import json
 import math
 import re
+import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from conftest import EXIT_INPUT, assert_ok, assert_same_datasets, describe, read_attrs, run_case, snapshots
+from conftest import EXIT_INPUT, ROOT, assert_ok, assert_same_datasets, describe, read_attrs, run_case, snapshots
 from post import hydrostatic
 from post.io import read_csv, read_snapshot
 
@@ -139,6 +142,19 @@ def test_3d_still_tank(tank3d: Path, tank2d: Path) -> None:
     text = (tank3d / "particles.xmf").read_text()
     assert 'GeometryType="XYZ"' in text and 'GeometryType="XY"' not in text
     assert f'Dimensions="{first.position.shape[0]} 3"' in text
+    # ParaView reads the series in three dimensions (when it is installed)
+    if all(shutil.which(tool) for tool in ("pvpython", "xvfb-run", "xauth")):
+        proc = subprocess.run([str(ROOT / "tools" / "pv_probe.sh"), str(tank3d / "particles.xmf"), "pressure"],
+                              capture_output=True, text=True, timeout=300, stdin=subprocess.DEVNULL)
+        assert proc.returncode == 0, f"tools/pv_probe.sh failed\n{describe(proc)}"
+        seen = json.loads(proc.stdout.strip().splitlines()[-1])
+        assert seen["point_arrays"]["velocity"] == 3 and seen["n_points"] == last.n_particles
+        lo, hi = last.position.min(axis=0), last.position.max(axis=0)
+        assert seen["bounds"] == pytest.approx([lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]], rel=1e-12, abs=1e-15)
+    # and the perspective views draw it (make run3d): one 3D panel per time, and a colour bar
+    from post.plot_3d import view_figure
+    fig = view_figure([first, last], max_fluid=2000)
+    assert sum(getattr(ax, "name", "") == "3d" for ax in fig.axes) == 2 and len(fig.axes) == 3
 
 
 def test_3d_restart_is_bit_identical(tmp_path: Path, mbsph3d: Path) -> None:
