@@ -236,7 +236,7 @@ contains
          call alloc_check(ist, emsg, 'mem in checkpoint_read')
          call h5_read(f, 'contact_memory', mem)
       else
-         allocate (mem(4, 0), stat=ist, errmsg=emsg)
+         allocate (mem(2 + ndim, 0), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'mem in checkpoint_read')
       end if
       call h5_close(f)

@@ -119,7 +119,7 @@ contains
       call forces_init(r%w, r%prm)
       if (size(r%bodies) > 0) then
          call contact_init(scene_contact(c), r%prm, r%ct)
-         if (c%run%restart) call contact_memory_set(r%ct, nint(mem(1:2, :)), mem(3:4, :))
+         if (c%run%restart) call contact_memory_set(r%ct, nint(mem(1:2, :)), mem(3:2 + ndim, :))
          if (comm_rank() == 0) call bodies_csv_open(r%bf, r%out, c%run%restart, r%st%t)
       end if
       call banner(r, c)
