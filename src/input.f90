@@ -8,8 +8,8 @@ module input
    use input_domain, only: domain_cfg, read_domain, write_domain
    use input_fluid, only: fluid_cfg, read_fluid, write_fluid
    use input_numerics, only: numerics_cfg, read_numerics, write_numerics
-   use input_geometry, only: geom_object, read_geometry, write_geometry
-   use input_body, only: body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
+   use input_geometry, only: geom_object, read_geometry, write_geometry, geom_zrange
+   use input_body, only: body_cfg, body_zrange, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
    use input_wave, only: wavemaker_cfg, gauge_cfg, damping_cfg, read_wavemaker, write_wavemaker, read_gauges, &
                          write_gauges, read_damping, write_damping
    use input_porous, only: porous_cfg, read_porous, write_porous
@@ -424,8 +424,7 @@ contains
       type(case_cfg), intent(in) :: c
       type(geom_object), intent(in) :: o
       real(rp) :: z(2)
-      z = [c%domain%zmin, c%domain%zmax]
-      if (o%zr(2) > o%zr(1)) z = o%zr
+      z = geom_zrange(o, [c%domain%zmin, c%domain%zmax])
    end function object_span
 
    !> A body's extent across the width (3D; the domain's in 2D).
@@ -434,7 +433,7 @@ contains
       type(body_cfg), intent(in) :: b
       real(rp) :: z(2)
       z = [c%domain%zmin, c%domain%zmax]
-      if (ndim == 3) z = b%z + 0.5_rp*[-b%depth, b%depth]
+      if (ndim == 3) z = body_zrange(b)
    end function body_width
 
    !> What the 3D build does not model yet stops at input, by name (doc/3d.md):

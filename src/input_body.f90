@@ -13,7 +13,7 @@ module input_body
                       body_motion_names, motion_floating, motion_prescribed
    implicit none
    private
-   public :: body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
+   public :: body_zrange, body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
 
    integer, parameter :: body_max_vert = 100
 
@@ -166,6 +166,13 @@ contains
       end do
       close (u_)
    end subroutine read_bodies
+
+   !> A body's extent across the width in 3D: its depth about z.
+   pure function body_zrange(b) result(z)
+      type(body_cfg), intent(in) :: b
+      real(rp) :: z(2)
+      z = b%z + 0.5_rp*[-b%depth, b%depth]
+   end function body_zrange
 
    !> The body across the width: in 3D a box of side depth, centred at z; in 2D
    !> neither is given.

@@ -11,7 +11,7 @@ module input_geometry
                       wall_oscillate
    implicit none
    private
-   public :: geom_object, read_geometry, write_geometry, max_vert
+   public :: geom_zrange, geom_object, read_geometry, write_geometry, max_vert
 
    integer, parameter :: max_vert = 100
 
@@ -156,6 +156,15 @@ contains
          call set_width(file, o, gname)
       end subroutine set_common
    end subroutine read_geometry
+
+   !> An object's extent across the width (3D): its own, or the domain's zdom.
+   pure function geom_zrange(o, zdom) result(z)
+      type(geom_object), intent(in) :: o
+      real(rp), intent(in) :: zdom(2)
+      real(rp) :: z(2)
+      z = zdom
+      if (o%zr(2) > o%zr(1)) z = o%zr
+   end function geom_zrange
 
    !> The extent across the width of the group just read (3D only): zmin and zmax
    !> both left out for the domain's width.

@@ -4,13 +4,13 @@ module scene
    use kinds, only: rp
    use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, ndim, nsec
    use input, only: case_cfg
-   use input_body, only: body_cfg
+   use input_body, only: body_cfg, body_zrange
    use body_shapes, only: body_outline, body_mass_properties, body_particles
    use body_dynamics, only: body_t
    use rigid, only: rigid_set_angle_z, nrot, ndof
    use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, role_filter, wall_fixed, &
                       integ_verlet, bnd_mdbc
-   use input_geometry, only: geom_object
+   use input_geometry, only: geom_object, geom_zrange
    use particles, only: particles_t, particles_grow, particles_fit
    use params, only: params_t
    use kernel, only: kernel_norm
@@ -63,7 +63,7 @@ contains
       call alloc_check(ist, emsg, 'holes in scene_build')
       do k = 1, size(c%bodies)
          holes(k)%v = body_outline(c%bodies(k))
-         if (ndim == 3) holes(k)%zr = c%bodies(k)%z + 0.5_rp*[-c%bodies(k)%depth, c%bodies(k)%depth]
+         if (ndim == 3) holes(k)%zr = body_zrange(c%bodies(k))
       end do
       por = scene_porous(c)
       zdom = [c%domain%zmin, c%domain%zmax]
@@ -514,19 +514,11 @@ contains
       type(geom_object), intent(in) :: o
       real(rp), intent(in) :: zdom(2), dp
       real(rp), intent(out) :: z(2)
-      z = object_width(o, zdom)
+      z = geom_zrange(o, zdom)
       nz = 1
       if (ndim == 3) nz = max(1, nint((z(2) - z(1))/dp))
    end function layers_across
 
-   !> The object's extent across the width (3D): its own, or the domain's zdom.
-   pure function object_width(o, zdom) result(z)
-      type(geom_object), intent(in) :: o
-      real(rp), intent(in) :: zdom(2)
-      real(rp) :: z(2)
-      z = zdom
-      if (o%zr(2) > o%zr(1)) z = o%zr
-   end function object_width
 
    !> Solids may overlap (a slope resting on a floor, boxes sharing a corner):
    !> where they do, the earlier object keeps its particles and the later one
@@ -540,7 +532,7 @@ contains
       do e = 1, size(earlier)
          if (earlier(e)%role_id /= role_solid) cycle
          if (ndim == 3) then
-            z = object_width(earlier(e), zdom)
+            z = geom_zrange(earlier(e), zdom)
             if (pt(ndim) < z(1) .or. pt(ndim) > z(2)) cycle
          end if
          if (point_in_polygon(pt(1:nsec), earlier(e)%v)) then

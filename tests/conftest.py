@@ -135,6 +135,20 @@ def run_case(text: str, tmp_path: Path, binary: Path | str = RELEASE, name: str 
     return proc, tmp_path / out_dir_of(text)
 
 
+def straight_and_restarted(text, tmp_path: Path, binary: Path | str, steps: int) -> tuple[Path, Path]:
+    """One run of ``text(steps)`` in tmp_path/a, and one of ``text(steps // 2)`` in tmp_path/b
+    continued by ``text(steps, restart=True)``: their output folders, every run ended normally."""
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    proc, out_a = run_case(text(steps), tmp_path / "a", binary=binary)
+    assert_ok(proc)
+    proc, out_b = run_case(text(steps // 2), tmp_path / "b", binary=binary)
+    assert_ok(proc)
+    proc, _ = run_case(text(steps, restart=True), tmp_path / "b", binary=binary)
+    assert_ok(proc)
+    return out_a, out_b
+
+
 def describe(proc: subprocess.CompletedProcess) -> str:
     """Exit code and the ends of stdout and stderr, for assertion messages."""
     return (f"exit code {proc.returncode}\n--- stdout (end) ---\n{proc.stdout[-2000:]}"

@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import EXIT_INPUT, ROOT, assert_ok, assert_same_datasets, describe, read_attrs, run_case, snapshots
+from conftest import (EXIT_INPUT, ROOT, assert_ok, assert_same_datasets, describe, read_attrs, run_case, snapshots,
+                      straight_and_restarted)
 from post import hydrostatic
 from post.io import read_csv, read_snapshot
 
@@ -162,14 +163,7 @@ def test_3d_restart_is_bit_identical(tmp_path: Path, mbsph3d: Path) -> None:
         return tank3d_text(t_end=1.0, dt_out=0.005,
                            run=f"max_steps = {steps}, restart = {'.true.' if restart else '.false.'}")
 
-    (tmp_path / "a").mkdir()
-    (tmp_path / "b").mkdir()
-    proc, out_a = run_case(text(80), tmp_path / "a", binary=mbsph3d)
-    assert_ok(proc)
-    proc, out_b = run_case(text(40), tmp_path / "b", binary=mbsph3d)
-    assert_ok(proc)
-    proc, _ = run_case(text(80, restart=True), tmp_path / "b", binary=mbsph3d)
-    assert_ok(proc)
+    out_a, out_b = straight_and_restarted(text, tmp_path, mbsph3d, 80)
     assert read_attrs(snapshots(out_a)[-1])["step"] == 80
     assert_same_datasets(snapshots(out_a)[-1], snapshots(out_b)[-1])
 
@@ -369,14 +363,7 @@ def test_3d_restart_with_contacts_is_bit_identical(tmp_path: Path, mbsph3d: Path
                              f"t_end = 1.0, dt_out = 1.0, out_dir = 'OUT', max_steps = {steps}, "
                              f"restart = {'.true.' if restart else '.false.'}")
 
-    (tmp_path / "a").mkdir()
-    (tmp_path / "b").mkdir()
-    proc, out_a = run_case(text(400), tmp_path / "a", binary=mbsph3d)
-    assert_ok(proc)
-    proc, out_b = run_case(text(200), tmp_path / "b", binary=mbsph3d)
-    assert_ok(proc)
-    proc, _ = run_case(text(400, restart=True), tmp_path / "b", binary=mbsph3d)
-    assert_ok(proc)
+    out_a, out_b = straight_and_restarted(text, tmp_path, mbsph3d, 400)
     assert read_attrs(snapshots(out_a)[-1])["step"] == 400
     assert_same_datasets(snapshots(out_a)[-1], snapshots(out_b)[-1])
     a, b = read_csv(out_a / "bodies.csv"), read_csv(out_b / "bodies.csv")
