@@ -102,7 +102,7 @@ contains
       case (model_hertz)
          call hertz_gather(ct, prm, p, bodies)
       case (model_repulsive, model_noncohesive, model_spring)
-         call eq_gather(ct, prm, p)
+         call eq_gather(ct, prm, p, bodies)
       case default
          call fatal('contact: no pair force for model '//int_str(ct%model))
       end select

@@ -4,13 +4,14 @@
 !> u_L and the slip taken at the contact centre of two touching bodies.
 module contact_eq
    use kinds, only: rp
-   use constants, only: pi, ndim
+   use constants, only: ndim
    use params, only: params_t
    use particles, only: particles_t
    use body_dynamics, only: body_t
    use options, only: model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
    use contact_state, only: contact_t, key_index, store_pair
-   use contact_pair, only: pair_force, pair_friction, pair_viscous, velocity_at, contact_normal, pair_mass, body_mass
+   use contact_pair, only: pair_force, pair_friction, pair_viscous, velocity_at, contact_normal, partition_weight, &
+                           pair_mass, body_mass
    implicit none
    private
    public :: eq_gather, eq_apply
@@ -19,21 +20,21 @@ contains
 
    !> First pass over the candidate pairs of the sweep: the geometry of each
    !> pair, and the contact centre of its two bodies.
-   subroutine eq_gather(ct, prm, p)
+   subroutine eq_gather(ct, prm, p, bodies)
       type(contact_t), intent(inout) :: ct
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
+      type(body_t), intent(in) :: bodies(:)
       integer :: m, i, j, bi, bj, k
-      real(rp) :: d(ndim), n(ndim), psi_c, xi, pw, psi, q, rq
+      real(rp) :: d(ndim), n(ndim), psi_c, pw, psi, q, rq
       pairs: do m = 1, ct%nc
          i = ct%cij(1, m); j = ct%cij(2, m); bi = ct%cij(3, m); bj = ct%cij(4, m)
          d = p%x(:, i) - p%x(:, j)
          n = contact_normal(p, i, j, d)
          psi_c = dot_product(d, n)                 ! normal distance of the particle centres
          if (psi_c <= -prm%dp) cycle pairs         ! passed through: never pull back across
-         xi = norm2(d - psi_c*n)                   ! tangential distance
-         if (xi >= prm%dp) cycle pairs
-         pw = 0.5_rp*(1.0_rp + cos(pi*xi/prm%dp))  ! P(xi): a partition of unity along a face
+         pw = partition_weight(bodies, p, i, j, bi, bj, n, d - psi_c*n, prm%dp)   ! P(xi)
+         if (pw <= 0.0_rp) cycle pairs
          psi = psi_c - 0.5_rp*prm%dp               ! distance of particle i from the other surface
          q = max(psi, 0.0_rp)/(2.0_rp*prm%h)
          if (q >= 1.0_rp) cycle pairs

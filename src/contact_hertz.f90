@@ -98,8 +98,10 @@ contains
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
       type(body_t), intent(in) :: bodies(:)
-      integer :: m, i, j, bi, bj, k, c
-      real(rp) :: d(ndim), r2, overlap, n(ndim), w, un, kn, dmax
+      integer :: m, i, j, bi, bj, k, c, napp(0:size(bodies))
+      real(rp) :: d(ndim), r2, overlap, n(ndim), w, un, kn, dmax, dt1(0:size(bodies))
+      napp = 0
+      dt1 = huge(1.0_rp)
       do m = 1, ct%nc
          i = ct%cij(1, m); j = ct%cij(2, m); bi = ct%cij(3, m); bj = ct%cij(4, m)
          d = p%x(:, i) - p%x(:, j)
@@ -115,6 +117,11 @@ contains
             kn = hertz_stiffness(bodies, bi, bj, prm%dp)
             dmax = (1.25_rp*body_mass(bodies, bi, bj)*un*un/kn)**0.4_rp
             ct%dt_limit = min(ct%dt_limit, 2.94_rp*dmax/(40.0_rp*abs(un)))
+            if (r2 < (1.5_rp*prm%dp)**2) then
+               ! about to touch: counted for each of its two bodies
+               napp([bi, bj]) = napp([bi, bj]) + 1
+               dt1([bi, bj]) = min(dt1([bi, bj]), 2.94_rp*dmax/(40.0_rp*abs(un)))
+            end if
          end if
          overlap = prm%dp - sqrt(r2)
          if (overlap <= 0.0_rp) cycle
@@ -128,6 +135,11 @@ contains
          ct%kx(:, k) = ct%kx(:, k) + merge(w, -w, p%body(i) > p%body(j))*n
          ct%kt(:, k) = ct%kt(:, k) + w*sym_outer(n)
          call store_pair(ct, i, j, bi, bj, n, overlap, 0.0_rp, 0.0_rp, k)
+      end do
+      ! a face that meets a face meets in N pairs at once: N kn in parallel
+      ! shorten the impact by N^(2/5) (dmax above with N kn); 40 steps of that
+      do k = 1, size(bodies)
+         if (napp(k) > 1) ct%dt_limit = min(ct%dt_limit, dt1(k)*real(napp(k), rp)**(-0.4_rp))
       end do
    end subroutine hertz_gather
 

@@ -25,7 +25,7 @@ module input
    use options, only: role_fluid, role_filter, model_dynamic, wall_wavemaker, wave_regular, wave_file, paddle_piston, &
                       gauge_pressure, &
                       integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, bnd_mdbc, visc_laminar_sps, shift_none, &
-                      bnd_dynamic, wall_fixed, motion_prescribed
+                      bnd_dynamic, wall_fixed
    implicit none
    private
    public :: case_cfg, read_case, write_case
@@ -443,10 +443,6 @@ contains
       character(len=*), parameter :: later = 'not yet in the 3D build (doc/3d.md lists what is); '// &
                                              'the 2D build (build/mbsph) has it'
       integer :: k
-      do k = 1, size(c%bodies)
-         if (c%bodies(k)%motion_id == motion_prescribed) call input_error(c%file, 'body #'//int_str(k), 'motion', &
-                                                                          "a body with motion = 'prescribed' is "//later)
-      end do
       if (c%wavemaker%on) call input_error(c%file, 'wavemaker', '', 'a wavemaker is '//later)
       if (c%breakwater%on) call input_error(c%file, 'breakwater', '', 'the breakwater builder is '//later)
       if (c%armour%on) call input_error(c%file, 'armour', '', 'an armour layer is '//later)

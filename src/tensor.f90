@@ -9,7 +9,7 @@ module tensor
    use constants, only: ndim, nsym
    implicit none
    private
-   public :: sym_slot, sym_outer, sym_quad, sym_det, sym_adjugate, sym_identity, tangent_basis
+   public :: sym_slot, sym_outer, sym_quad, sym_det, sym_adjugate, sym_identity, tangent_basis, tangent_basis_along
 
 contains
 
@@ -120,6 +120,24 @@ contains
          end do
       end if
    end function tangent_basis
+
+   !> An orthonormal basis of the plane tangent to the unit normal n whose
+   !> first vector is the direction a (not along n) made orthogonal to n; in
+   !> 3D the second is n x e1. A face's lattice axes from one of them.
+   pure function tangent_basis_along(n, a) result(e)
+      real(rp), intent(in) :: n(ndim), a(ndim)
+      real(rp) :: e(ndim, ndim - 1)
+      integer :: k, k1, k2
+      e(:, 1) = a - dot_product(a, n)*n
+      e(:, 1) = e(:, 1)/norm2(e(:, 1))
+      if (ndim == 3) then
+         do k = 1, ndim
+            k1 = mod(k, ndim) + 1
+            k2 = mod(k + 1, ndim) + 1
+            e(k, ndim - 1) = n(k1)*e(k2, 1) - n(k2)*e(k1, 1)
+         end do
+      end if
+   end function tangent_basis_along
 
    !> The full matrix of a symmetric tensor.
    pure function sym_full(t) result(m)

@@ -183,8 +183,7 @@ def test_2d_checkpoint_is_refused_by_the_3d_solver(tmp_path: Path, mbsph: Path, 
                                        "density = 500.0 /\n", ("box bodies only",)),
     ("&body #1: depth:", lambda t: t + "&body shape = 'box', x = 0.05, y = 0.05, z = 0.015, width = 0.02, "
                                        "height = 0.02, density = 500.0 /\n", ("allowed range",)),
-    ("&body #1: motion:", lambda t: t + "&body shape = 'box', x = 0.05, y = 0.05, z = 0.015, width = 0.02, "
-                                        "height = 0.02, depth = 0.02, motion = 'prescribed', u = 0.1 /\n",
+    ("&numerics: shifting:", lambda t: t.replace("  cfl = 0.2\n", "  cfl = 0.2\n  shifting = 'fickian'\n"),
      ("not yet in the 3D build",)),
     ("&numerics: boundary:", lambda t: t.replace("  cfl = 0.2\n", "  cfl = 0.2\n  boundary = 'mdbc'\n"),
      ("not yet in the 3D build",)),
@@ -368,3 +367,142 @@ def test_3d_restart_with_contacts_is_bit_identical(tmp_path: Path, mbsph3d: Path
     assert_same_datasets(snapshots(out_a)[-1], snapshots(out_b)[-1])
     a, b = read_csv(out_a / "bodies.csv"), read_csv(out_b / "bodies.csv")
     assert np.array_equal(a["y"][-3:], b["y"][-3:]) and np.array_equal(a["fx_friction"][-3:], b["fx_friction"][-3:])
+
+
+# ------------------------------------------------------------------ contact in motion
+
+TILT_SIDE, TILT_DENSITY = 0.04, 1300.0
+
+
+def tilt_table_3d(n_across: int, mu: float, start_deg: float, end_deg: float, out_dir: str = "OUT",
+                  extra_run: str = "") -> str:
+    """The tilting table of tests/test_tilt.py in 3D: a cube of side TILT_SIDE (n_across
+    particles across) at rest on a massless table 0.24 m long and 0.08 m wide, turned
+    about z at 1 degree per second from start_deg to end_deg."""
+    dp = TILT_SIDE / n_across
+    thick = max(0.04, 3 * dp)
+    a0 = math.radians(start_deg)
+    r = thick / 2 + TILT_SIDE / 2 + 0.01 * dp      # the cube's centre above the table's
+    return f"""\
+&run case_name = 'tilt3d', t_end = {end_deg - start_deg}, dt_out = 100.0, energy_interval = 0.01,
+     out_dir = '{out_dir}' {extra_run} /
+&domain xmin = -0.3, xmax = 0.3, ymin = -0.3, ymax = 0.3, zmin = -0.05, zmax = 0.05 /
+&numerics dp = {dp} /
+&body shape = 'box', x = 0.0, y = 0.0, z = 0.0, width = 0.24, height = {thick}, depth = 0.08,
+      angle = {start_deg}, motion = 'prescribed', omega = {math.radians(1.0)} /
+&body shape = 'box', x = {-r * math.sin(a0)}, y = {r * math.cos(a0)}, z = 0.0, width = {TILT_SIDE},
+      height = {TILT_SIDE}, depth = {TILT_SIDE}, angle = {start_deg}, density = {TILT_DENSITY}, mu = {mu} /
+"""
+
+
+def tilt_series(out: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Table angle [deg], the cube's turn about z against the table [deg], its travel
+    along the table [sides] and its turn out of the section (about x and y) [deg]."""
+    d = read_csv(out / "bodies.csv")
+    about_z = 2.0 * np.arctan2(d["qz"], d["qw"])
+    table, cube = d["body"] == 1, d["body"] == 2
+    ta = about_z[table]
+    turn = np.degrees(about_z[cube] - ta)
+    along = (d["x"][cube] * np.cos(ta) + d["y"][cube] * np.sin(ta)) / TILT_SIDE
+    aside = np.degrees(2.0 * np.arcsin(np.minimum(np.hypot(d["qx"][cube], d["qy"][cube]), 1.0)))
+    return np.degrees(ta), turn - turn[0], along - along[0], aside
+
+
+def onset(angle: np.ndarray, measure: np.ndarray, bar: float) -> float:
+    """The table angle at which |measure| first exceeds bar (inf: never)."""
+    k = np.flatnonzero(np.abs(measure) > bar)
+    return float(angle[k[0]]) if len(k) else math.inf
+
+
+def test_3d_cube_tips_at_45_degrees(tmp_path: Path, mbsph3d: Path) -> None:
+    # a cube that cannot slide (mu = 1.5) tips over its lower edge as the table passes 45
+    # degrees, the analytic limit: it turns by more than 2 degrees against the table
+    # between 44 and 46 (the issue's 1 degree), 4 particles across (6 across: 44.46
+    # degrees, doc/3d.md); it stays in its section until it falls (no turn about x or y
+    # above 0.01 degree: nothing in the scene breaks the symmetry across the width)
+    proc, out = run_case(tilt_table_3d(4, 1.5, 40.0, 47.0), tmp_path, binary=mbsph3d)
+    assert_ok(proc)
+    angle, turn, _, aside = tilt_series(out)
+    tip = onset(angle, turn, 2.0)
+    assert 44.0 <= tip <= 46.0, f"tips at {tip:.2f} deg, not within 1 degree of 45"
+    before = angle < tip
+    assert float(np.max(aside[before])) <= 0.01, f"turned out of its section by {np.max(aside[before]):.3g} deg"
+
+
+def test_3d_cube_slides_where_tan_is_mu(tmp_path: Path, mbsph3d: Path) -> None:
+    # with mu = 0.5 the cube slides before it can tip, at atan(0.5) = 26.57 degrees: it
+    # moves 0.02 of its side along the table within 1 degree of that angle, and does not
+    # turn on the table (2 degrees) before it has slid
+    proc, out = run_case(tilt_table_3d(4, 0.5, 22.0, 30.0), tmp_path, binary=mbsph3d)
+    assert_ok(proc)
+    angle, turn, along, _ = tilt_series(out)
+    slide = onset(angle, along, 0.02)
+    limit = math.degrees(math.atan(0.5))
+    assert abs(slide - limit) <= 1.0, f"slides at {slide:.2f} deg, atan(mu) = {limit:.2f}"
+    assert onset(angle, turn, 2.0) >= slide, "the cube tipped before it slid"
+
+
+def test_3d_restart_with_slip_memory_is_bit_identical(tmp_path: Path, mbsph3d: Path) -> None:
+    # the cube held by static friction on the table at 30 degrees (mu = 1.5): its contacts
+    # carry a slip memory along the table, which the checkpoint must hold; stopped half way
+    # and restarted, the run goes on bit for bit. (The slip lies in the section, x and y:
+    # a memory read with two components instead of three would pass here too.)
+    def text(steps: int, restart: bool = False) -> str:
+        return tilt_table_3d(4, 1.5, 30.0, 31.0, extra_run=f", max_steps = {steps}, "
+                             f"restart = {'.true.' if restart else '.false.'}").replace("dt_out = 100.0",
+                                                                                        "dt_out = 10.0")
+
+    out_a, out_b = straight_and_restarted(text, tmp_path, mbsph3d, 3000)
+    assert_same_datasets(snapshots(out_a)[-1], snapshots(out_b)[-1])
+    a, b = read_csv(out_a / "bodies.csv"), read_csv(out_b / "bodies.csv")
+    # the memory matters here: friction holds the cube's weight along the table
+    cube = a["body"] == 2
+    along = abs(float(a["fx_friction"][cube][-1]))
+    assert along > 0.3 * TILT_DENSITY * TILT_SIDE**3 * G * math.sin(math.radians(30.0))
+    assert np.array_equal(a["x"][-2:], b["x"][-2:]) and np.array_equal(a["fx_friction"][-2:], b["fx_friction"][-2:])
+
+
+HERTZ_DROP = """&run case_name = 'hertz3d', t_end = 0.3, dt_out = 0.3, energy_interval = 0.0005, out_dir = 'OUT' /
+&domain xmin = 0.0, xmax = 0.4, ymin = -0.03, ymax = 0.4, zmin = 0.0, zmax = 0.2 /
+&numerics dp = 0.01, h_over_dp = 1.3, integrator = 'symplectic' /
+&contact model = 'hertz' /
+&box role = 'solid', xmin = 0.0, xmax = 0.4, ymin = -0.03, ymax = 0.0 /
+&body shape = 'box', x = 0.2, y = 0.2, z = 0.1, width = 0.06, height = 0.06, depth = 0.06, density = 2000.0,
+      restitution = {e}, young = 2.0e10 /
+"""
+
+HERTZ_PAIR = """&run case_name = 'hertz3d', t_end = 0.1, dt_out = 0.1, energy_interval = 0.0002, out_dir = 'OUT' /
+&domain xmin = 0.0, xmax = 0.4, ymin = 0.0, ymax = 0.4, zmin = 0.0, zmax = 0.2 /
+&fluid gravity = 0.0 /
+&numerics dp = 0.01, h_over_dp = 1.3, integrator = 'symplectic' /
+&contact model = 'hertz' /
+&body shape = 'box', x = 0.15, y = 0.2, z = 0.1, width = 0.06, height = 0.06, depth = 0.06, density = 2000.0,
+      restitution = {e}, young = 2.0e10, u = 0.5 /
+&body shape = 'box', x = 0.25, y = 0.2, z = 0.1, width = 0.06, height = 0.06, depth = 0.06, density = 2000.0,
+      restitution = {e}, young = 2.0e10, u = -0.5 /
+"""
+
+
+@pytest.mark.parametrize("e", [0.5, 0.9])
+def test_3d_hertz_cube_impacts(e: float, tmp_path: Path, mbsph3d: Path) -> None:
+    # Hertz contact with Tsuji's damping for a set restitution e, face to face: a cube
+    # dropped flat on a floor, and two cubes meeting head on at 1 m/s without gravity. The
+    # rebound ratio is e within 2 % (the issue's bar); the faces' particles meet face to
+    # face (doc/3d.md: offset by part of a spacing, a face falls into the pockets of the
+    # other's lattice and rebounds less)
+    (tmp_path / "drop").mkdir()
+    (tmp_path / "pair").mkdir()
+    proc, out = run_case(HERTZ_DROP.format(e=e), tmp_path / "drop", binary=mbsph3d)
+    assert_ok(proc)
+    v = read_csv(out / "bodies.csv")["v"]
+    k = int(np.argmin(v))
+    ratio = -float(np.max(v[k:k + 200])) / float(v[k])
+    assert abs(ratio - e) <= 0.02 * e, f"dropped: rebound ratio {ratio:.4f}, restitution {e}"
+    proc, out = run_case(HERTZ_PAIR.format(e=e), tmp_path / "pair", binary=mbsph3d)
+    assert_ok(proc)
+    b = read_csv(out / "bodies.csv")
+    u1, u2 = b["u"][b["body"] == 1], b["u"][b["body"] == 2]
+    ratio = -float(u2[-1] - u1[-1]) / float(u2[0] - u1[0])
+    assert abs(ratio - e) <= 0.02 * e, f"head on: rebound ratio {ratio:.4f}, restitution {e}"
+    # momentum: equal and opposite pair forces (to round-off)
+    assert abs(float(u1[-1] + u2[-1])) <= 1e-12
