@@ -79,13 +79,15 @@ class Gauge:
     """One row of the gauge table of ``gauges.csv``: ``kind`` is 'elevation' or 'pressure'.
 
     ``column`` is the name of its column in the data (``eta_<id>`` or ``p_<id>``); ``y`` is
-    NaN for an elevation gauge.
+    NaN for an elevation gauge; ``z`` is the position across the width of a 3D run (0 in
+    2D, whose table has no z column).
     """
 
     id: int
     kind: str
     x: float
     y: float
+    z: float = 0.0
 
     @property
     def column(self) -> str:
@@ -96,7 +98,7 @@ def read_gauges(path: str | Path) -> tuple[list[Gauge], np.ndarray, dict[str, np
     """Read ``gauges.csv`` (or the ``gauges.csv`` of an output folder).
 
     The file opens with comment lines (``#``): the first is the legend ``id,kind,x,y`` of
-    the gauge table, each further one a gauge. Then comes the header line
+    the gauge table (``id,kind,x,y,z`` in 3D), each further one a gauge. Then comes the header line
     ``time,eta_1,...,p_k`` and one row per output time. Returns the gauges in file order,
     the time array and ``{column name: array}`` of every column (``time`` included).
     """
@@ -125,7 +127,8 @@ def read_gauges(path: str | Path) -> tuple[list[Gauge], np.ndarray, dict[str, np
         fields = [v.strip() for v in row.split(",")]
         if len(fields) < 4:
             raise ValueError(f"{path}: gauge line {row!r} has {len(fields)} fields, expected 4")
-        gauges.append(Gauge(int(fields[0]), fields[1].lower(), float(fields[2]), float(fields[3])))
+        z = float(fields[4]) if len(legend) > 4 and legend[4] == "z" and len(fields) > 4 else 0.0
+        gauges.append(Gauge(int(fields[0]), fields[1].lower(), float(fields[2]), float(fields[3]), z))
     if not data:
         raise ValueError(f"{path}: no header line after the gauge table")
     names = [name.strip() for name in data[0].split(",")]

@@ -5,7 +5,7 @@
 !> paddle's law, so that this module and the step never see the input.
 module bc_motion
    use kinds, only: rp
-   use constants, only: pi, kind_moving
+   use constants, only: pi, kind_moving, nsec
    use particles, only: particles_t
    use wave_paddle, only: paddle_t, paddle_motion, paddle_place
    use options, only: wall_fixed, wall_oscillate, wall_wavemaker
@@ -61,16 +61,19 @@ contains
          if (b > size(walls%obj)) cycle            ! a prescribed body: moved by body_dynamics
          associate (m => walls%obj(b))
             select case (m%motion)
+            ! in the section (x, y): the walls move alike over the width (3D)
             case (wall_oscillate)
                w = 2.0_rp*pi/m%period
-               p%x(:, i) = p%xb(:, i) + m%amplitude*sin(w*t)
-               p%v(:, i) = m%amplitude*w*cos(w*t)
+               p%x(1:nsec, i) = p%xb(1:nsec, i) + m%amplitude*sin(w*t)
+               p%v(1:nsec, i) = m%amplitude*w*cos(w*t)
             case (wall_wavemaker)
-               call paddle_place(walls%paddle%flap, p%xb(:, i), xf, uf, m%hinge, m%hinge_depth, p%x(:, i), p%v(:, i))
+               call paddle_place(walls%paddle%flap, p%xb(1:nsec, i), xf, uf, m%hinge, m%hinge_depth, p%x(1:nsec, i), &
+                                 p%v(1:nsec, i))
                if (p%mdbc) then
                   ! the ghost point moves with the paddle (a flap turns it)
-                  call paddle_place(walls%paddle%flap, p%xb(:, i) + p%gob(:, i), xf, uf, m%hinge, m%hinge_depth, xg, vg)
-                  p%gof(:, i) = xg - p%x(:, i)
+                  call paddle_place(walls%paddle%flap, p%xb(1:nsec, i) + p%gob(1:nsec, i), xf, uf, m%hinge, &
+                                    m%hinge_depth, xg, vg)
+                  p%gof(1:nsec, i) = xg - p%x(1:nsec, i)
                end if
             case (wall_fixed)    ! nothing to move
             case default

@@ -11,7 +11,7 @@ module input
    use input_geometry, only: geom_object, read_geometry, write_geometry, geom_zrange
    use input_body, only: body_cfg, body_zrange, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
    use input_wave, only: wavemaker_cfg, gauge_cfg, damping_cfg, read_wavemaker, write_wavemaker, read_gauges, &
-                         write_gauges, read_damping, write_damping
+                         write_gauges, read_damping, write_damping, z_left_out
    use input_porous, only: porous_cfg, read_porous, write_porous
    use input_breakwater, only: breakwater_cfg, armour_cfg, read_breakwater, write_breakwater, read_armour, &
                                write_armour
@@ -25,7 +25,7 @@ module input
    use options, only: role_fluid, role_filter, model_dynamic, wall_wavemaker, wave_regular, wave_file, paddle_piston, &
                       gauge_pressure, &
                       integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, bnd_mdbc, visc_laminar_sps, shift_none, &
-                      bnd_dynamic, wall_fixed
+                      bnd_dynamic
    implicit none
    private
    public :: case_cfg, read_case, write_case
@@ -69,6 +69,8 @@ contains
       call read_armour(file, c%numerics%dp, c%armour)
       call read_wavemaker(file, c%wavemaker, c%breakwater)
       call read_gauges(file, c%gauges)
+      ! 3D: a gauge without z at mid-width
+      if (ndim == 3) where (z_left_out(c%gauges%z)) c%gauges%z = 0.5_rp*(c%domain%zmin + c%domain%zmax)
       call read_damping(file, c%damping)
       call read_porous(file, c%numerics%h_over_dp*c%numerics%dp, c%porous)
       call expand_flume(c)
@@ -240,14 +242,35 @@ contains
       deallocate (b)
    end subroutine append_objects
 
+   !> Every gauge inside the domain (y: pressure gauges; z: 3D).
+   subroutine check_gauges(c)
+      type(case_cfg), intent(in) :: c
+      integer :: i
+      character(len=:), allocatable :: gi
+      associate (d => c%domain)
+         do i = 1, size(c%gauges)
+            gi = 'gauge #'//int_str(i)
+            if (c%gauges(i)%x < d%xmin .or. c%gauges(i)%x > d%xmax) call input_error(c%file, gi, 'x', &
+               'the gauge is outside the &domain: x must be in ['//real_str(d%xmin)//', '//real_str(d%xmax)//'] m')
+            if (ndim == 3) then
+               if (c%gauges(i)%z < d%zmin .or. c%gauges(i)%z > d%zmax) call input_error(c%file, gi, 'z', &
+                  'the gauge is outside the &domain: z must be in ['//real_str(d%zmin)//', '//real_str(d%zmax)//'] m')
+            end if
+            if (c%gauges(i)%kind_id == gauge_pressure .and. (c%gauges(i)%y < d%ymin .or. c%gauges(i)%y > d%ymax)) then
+               call input_error(c%file, gi, 'y', 'the gauge is outside the &domain: y must be in ['// &
+                                real_str(d%ymin)//', '//real_str(d%ymax)//'] m')
+            end if
+         end do
+      end associate
+   end subroutine check_gauges
+
    !> Waves that the paddle can make and the flume can hold; gauges and the
    !> damping zone inside the domain.
    subroutine check_waves(c)
       type(case_cfg), intent(in) :: c
       real(rp) :: k, kd, hmax, stroke, thick, per, hh
-      integer :: i, ip
+      integer :: ip
       character(len=*), parameter :: g = 'wavemaker'
-      character(len=:), allocatable :: gi
       associate (wm => c%wavemaker, d => c%domain)
          ip = paddle_index(c%objs)
          if (wm%on) then
@@ -285,15 +308,7 @@ contains
                   'max_stroke = '//real_str(wm%max_stroke)//' m: lower the height or shorten the period')
             end if
          end if
-         do i = 1, size(c%gauges)
-            gi = 'gauge #'//int_str(i)
-            if (c%gauges(i)%x < d%xmin .or. c%gauges(i)%x > d%xmax) call input_error(c%file, gi, 'x', &
-               'the gauge is outside the &domain: x must be in ['//real_str(d%xmin)//', '//real_str(d%xmax)//'] m')
-            if (c%gauges(i)%kind_id == gauge_pressure .and. (c%gauges(i)%y < d%ymin .or. c%gauges(i)%y > d%ymax)) then
-               call input_error(c%file, gi, 'y', 'the gauge is outside the &domain: y must be in ['// &
-                                real_str(d%ymin)//', '//real_str(d%ymax)//'] m')
-            end if
-         end do
+         call check_gauges(c)
          if (c%damping%on) then
             if (min(c%damping%x0, c%damping%x1) < d%xmin .or. max(c%damping%x0, c%damping%x1) > d%xmax) then
                call input_error(c%file, 'damping', 'x0, x1', 'the zone must lie inside the &domain ['// &
@@ -442,19 +457,11 @@ contains
       type(case_cfg), intent(in) :: c
       character(len=*), parameter :: later = 'not yet in the 3D build (doc/3d.md lists what is); '// &
                                              'the 2D build (build/mbsph) has it'
-      integer :: k
-      if (c%wavemaker%on) call input_error(c%file, 'wavemaker', '', 'a wavemaker is '//later)
       if (c%breakwater%on) call input_error(c%file, 'breakwater', '', 'the breakwater builder is '//later)
       if (c%armour%on) call input_error(c%file, 'armour', '', 'an armour layer is '//later)
-      if (size(c%gauges) > 0) call input_error(c%file, 'gauge #1', '', 'gauges are '//later)
-      if (c%damping%on) call input_error(c%file, 'damping', '', 'a damping zone is '//later)
       if (size(c%porous) > 0) call input_error(c%file, 'porous #1', '', 'porous regions are '//later)
       if (c%numerics%boundary_id /= bnd_dynamic) call input_error(c%file, 'numerics', 'boundary', &
                                                                    "only 'dynamic' is in the 3D build yet: "//later)
       if (c%numerics%shift_id /= shift_none) call input_error(c%file, 'numerics', 'shifting', 'shifting is '//later)
-      do k = 1, size(c%objs)
-         if (c%objs(k)%motion_id /= wall_fixed) call input_error(c%file, obj_name(c%objs(k)), 'motion', &
-                                                                 'moving walls are '//later)
-      end do
    end subroutine refuse_in_3d
 end module input

@@ -3,7 +3,7 @@
 !> still-water depth and the domain are made in input (check_waves).
 module input_wave
    use kinds, only: rp
-   use constants, only: name_len, path_len, msg_len
+   use constants, only: name_len, path_len, msg_len, ndim
    use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, &
                           group_count, int_str
    use errors, only: input_error, alloc_check
@@ -12,7 +12,7 @@ module input_wave
                       gauge_names, gauge_elevation
    implicit none
    private
-   public :: wavemaker_cfg, gauge_cfg, damping_cfg, read_wavemaker, write_wavemaker, read_gauges, write_gauges, &
+   public :: z_left_out, wavemaker_cfg, gauge_cfg, damping_cfg, read_wavemaker, write_wavemaker, read_gauges, write_gauges, &
              read_damping, write_damping
 
    type :: wavemaker_cfg
@@ -45,10 +45,15 @@ module input_wave
       real(rp) :: absorb_time = 0.0_rp     !< absorber's drift control and mean-level time [s] (0: 5 T or 5 Tp)
    end type wavemaker_cfg
 
+   !> a gauge's z left out (3D: mid-width, set by input once the &domain is known)
+   real(rp), parameter, public :: z_unset = -huge(1.0_rp)
+
    type :: gauge_cfg
       character(len=name_len) :: kind = 'elevation'  !< 'elevation' | 'pressure'
       integer :: kind_id = gauge_elevation           !< kind as its value in options (gauge_*)
       real(rp) :: x = 0.0_rp, y = 0.0_rp             !< position [m] (y: pressure gauges only)
+      !> 3D: the position across the width [m]; z_unset (left out): mid-width
+      real(rp) :: z = z_unset
    end type gauge_cfg
 
    type :: damping_cfg
@@ -69,8 +74,8 @@ module input_wave
       f_lo, f_hi, signal_file, ramp_periods, ramp_time, max_stroke, top, layers, y_bed, t_start, absorb, absorb_time
    ! &gauge
    character(len=name_len) :: kind
-   real(rp) :: x, y
-   namelist /gauge/ kind, x, y
+   real(rp) :: x, y, z
+   namelist /gauge/ kind, x, y, z
    ! &damping
    real(rp) :: x1, strength
    namelist /damping/ x0, x1, strength
@@ -186,22 +191,34 @@ contains
       if (n == 0) return
       u = open_case(file)
       do k = 1, n
-         kind = d%kind; x = d%x; y = d%y
+         kind = d%kind; x = d%x; y = d%y; z = d%z
          read (u, nml=gauge, iostat=ios, iomsg=msg)
          if (read_failed_open(u, file, 'gauge', ios, msg)) return
-         gs(k)%kind = kind; gs(k)%x = x; gs(k)%y = y
+         gs(k)%kind = kind; gs(k)%x = x; gs(k)%y = y; gs(k)%z = z
+         ! 2D: none, written as 0 in the run's case.nml
+         if (ndim == 2 .and. .not. z_left_out(z) .and. abs(z) > 0.0_rp) then
+            call input_error(file, 'gauge #'//int_str(k), 'z', &
+                             'a position across the section is for the 3D build (build/mbsph3d); leave it out in 2D')
+         end if
+         if (ndim == 2) gs(k)%z = 0.0_rp
          gs(k)%kind_id = option_index(file, 'gauge #'//int_str(k), 'kind', gs(k)%kind, gauge_names)
          gs(k)%kind = gauge_names(gs(k)%kind_id)
       end do
       close (u)
    end subroutine read_gauges
 
+   !> Whether a gauge's z is the z_unset of a group that left it out.
+   elemental logical function z_left_out(z)
+      real(rp), intent(in) :: z
+      z_left_out = z < 0.5_rp*z_unset
+   end function z_left_out
+
    subroutine write_gauges(u, gs)
       integer, intent(in) :: u
       type(gauge_cfg), intent(in) :: gs(:)
       integer :: k
       do k = 1, size(gs)
-         kind = gs(k)%kind; x = gs(k)%x; y = gs(k)%y
+         kind = gs(k)%kind; x = gs(k)%x; y = gs(k)%y; z = gs(k)%z
          write (u, nml=gauge)
       end do
    end subroutine write_gauges

@@ -25,6 +25,7 @@ module probe_gauges
    type :: gauges_t
       integer, allocatable :: kind(:)      !< gauge_elevation or gauge_pressure (options)
       real(rp), allocatable :: x(:), y(:)  !< position [m] (y: pressure gauges only)
+      real(rp), allocatable :: z(:)        !< position across the width (3D) [m]
       integer :: unit = 0
       logical :: opened = .false.
       integer :: ny = 0                    !< heights sampled per elevation gauge
@@ -35,13 +36,14 @@ module probe_gauges
 contains
 
    !> The gauges of a run: their kinds (the values of options) and positions.
-   subroutine gauges_init(gt, kinds, x, y)
+   subroutine gauges_init(gt, kinds, x, y, z)
       type(gauges_t), intent(out) :: gt
       integer, intent(in) :: kinds(:)
-      real(rp), intent(in) :: x(:), y(:)
+      real(rp), intent(in) :: x(:), y(:), z(:)
       gt%kind = kinds
       gt%x = x
       gt%y = y
+      gt%z = z
    end subroutine gauges_init
 
    !> How many gauges the run has.
@@ -68,14 +70,17 @@ contains
       open (newunit=gt%unit, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//path//': '//trim(msg))
       gt%opened = .true.
-      write (gt%unit, '(a)') '# id,kind,x,y'
+      ! 3D: z after the 2D columns
+      write (gt%unit, '(a)') '# id,kind,x,y'//trim(merge(',z', '  ', ndim == 3))
       head = 'time'
       do k = 1, gauges_count(gt)
+         b = ''
+         if (ndim == 3) write (b, '(",",f0.6)') gt%z(k)
          if (gt%kind(k) == gauge_elevation) then
-            write (gt%unit, '("# ",i0,",elevation,",f0.6,",nan")') k, gt%x(k)
+            write (gt%unit, '("# ",i0,",elevation,",f0.6,",nan",a)') k, gt%x(k), trim(b)
             write (b, '(",eta_",i0)') k
          else
-            write (gt%unit, '("# ",i0,",pressure,",f0.6,",",f0.6)') k, gt%x(k), gt%y(k)
+            write (gt%unit, '("# ",i0,",pressure,",f0.6,",",f0.6,a)') k, gt%x(k), gt%y(k), trim(b)
             write (b, '(",p_",i0)') k
          end if
          head = head//trim(b)
@@ -130,7 +135,7 @@ contains
       acc = 0.0_rp
       do k = 1, gauges_count(gt)
          off = (k - 1)*gt%ny
-         call candidates(gt, gt%x(k), prm, g, p, por, nc)
+         call candidates(gt, gt%x(k), gt%z(k), prm, g, p, por, nc)
          if (gt%kind(k) == gauge_elevation) then
             call add_column(gt, prm, nc, acc(off + 1:off + gt%ny))
          else
@@ -173,10 +178,11 @@ contains
    end subroutine gauges_values
 
    !> This rank's own fluid particles within 2h of the vertical line
-   !> through x: their height, horizontal offset, volume and pressure.
-   subroutine candidates(gt, x, prm, g, p, por, n)
+   !> through (x, z) (z: 3D only): their height, horizontal distance, volume
+   !> and pressure.
+   subroutine candidates(gt, x, z, prm, g, p, por, n)
       type(gauges_t), intent(inout) :: gt
-      real(rp), intent(in) :: x
+      real(rp), intent(in) :: x, z
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(in) :: p
@@ -187,15 +193,15 @@ contains
       cap = 0
       if (allocated(gt%cy)) cap = size(gt%cy)
       n = 0
-      ! the line at x (in 3D at mid-width for now: a gauge has no z yet, doc/3d.md)
       xl = 0.0_rp
       xl(1) = x
-      if (ndim == 3) xl(ndim) = g%z0 + 0.5_rp*g%ncz*g%cs
+      if (ndim == 3) xl(ndim) = z
       call grid_line_ranges(g, xl, jlo, jhi)
       do r = 1, grid_npoint
          in_cell: do j = jlo(r), min(jhi(r), p%n_own)
             if (p%kind(j) /= kind_fluid) cycle in_cell
             dx = x - p%x(1, j)
+            if (ndim == 3) dx = hypot(dx, z - p%x(ndim, j))
             if (abs(dx) >= 2.0_rp*prm%h) cycle in_cell
             if (n == cap) call grow(gt, cap)
             n = n + 1

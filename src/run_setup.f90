@@ -149,7 +149,9 @@ contains
          ! read where the kernel's support holds only water: 2h + dp in front of the face
          r%walls%paddle%gauge_offset = 2.0_rp*r%prm%h + r%prm%dp
          r%walls%paddle%delay = r%walls%paddle%gauge_offset/r%walls%paddle%celerity
-         call gauges_init(r%pg, [gauge_elevation], [r%walls%paddle%x_face], [0.0_rp])
+         ! (3D: at mid-width; the paddle moves uniformly over the width)
+         call gauges_init(r%pg, [gauge_elevation], [r%walls%paddle%x_face], [0.0_rp], &
+                          [merge(0.5_rp*(c%domain%zmin + c%domain%zmax), 0.0_rp, ndim == 3)])
       end if
       if (c%run%restart .and. r%walls%moving) call check_walls_at_restart(r, c)
    end subroutine walls_setup

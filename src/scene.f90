@@ -606,7 +606,7 @@ contains
    subroutine scene_gauges(c, gt)
       type(case_cfg), intent(in) :: c
       type(gauges_t), intent(out) :: gt
-      call gauges_init(gt, c%gauges%kind_id, c%gauges%x, c%gauges%y)
+      call gauges_init(gt, c%gauges%kind_id, c%gauges%x, c%gauges%y, c%gauges%z)
    end subroutine scene_gauges
 
    !> The case's absorbing zone (off when it has none).
