@@ -17,9 +17,9 @@ peak resident memory per particle, both raw (RSS / N) and marginal (the
 slope of RSS against N between sizes, which leaves out the fixed cost of the
 MPI and HDF5 libraries). It ends with one line per workload, the smallest size:
 
-    dam break 2D: 0.123 us per particle-step (23018 particles)
-    breakwater 2D: 0.234 us per particle-step (14344 particles)
-    dam break 3D: 0.603 us per particle-step (172674 particles); 3.57 times the 2D dam break's
+    dam break 2D: 0.173 us per particle-step (23018 particles)
+    breakwater 2D: 0.411 us per particle-step (14344 particles)
+    dam break 3D: 0.605 us per particle-step (172674 particles); 3.49 times the 2D dam break's
 
     .venv/bin/python bench/run_bench.py [--sizes 1 2 4] [--steps 0 800 200] [--t-end T]
                                         [--bw-sizes 1 2] [--bw-steps 400 100] [--steps-3d 200]

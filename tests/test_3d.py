@@ -588,3 +588,43 @@ def test_3d_piston_makes_the_2d_wave(tmp_path: Path, mbsph: Path, mbsph3d: Path)
     assert abs(p3.H / p2.H - 1.0) <= 0.07, f"pressure swing {p3.H:.1f} Pa in 3D, {p2.H:.1f} Pa in 2D"
     # no water lost through the paddle's sides or over the walls
     assert np.all(read_csv(out3 / "energy.csv")["lost"] == 0)
+
+
+EDGE_SIDE, EDGE_DENSITY, EDGE_ANGLE = 0.05, 2400.0, 30.0
+EDGE = """&run case_name = 'edge3d', t_end = 1.0, dt_out = 1.0, energy_interval = 0.002, out_dir = 'OUT' /
+&domain xmin = -0.2, xmax = 0.2, ymin = -0.05, ymax = 0.2, zmin = -0.1, zmax = 0.1 /
+&numerics dp = 0.01 /
+&box role = 'solid', xmin = -0.15, xmax = 0.15, ymin = -0.03, ymax = 0.0, zmin = -0.08, zmax = 0.08 /
+&body shape = 'box', x = 0.0, y = {y}, z = 0.0, width = {L}, height = {L}, depth = {L}, angle = {a},
+      density = {rho}, mu = 0.5 /
+"""
+
+
+def test_3d_cube_lands_on_an_edge_and_comes_to_rest_on_a_face(tmp_path: Path, mbsph3d: Path) -> None:
+    # a concrete cube turned 30 degrees about z, let go one spacing above the floor: it
+    # lands on its lower edge, tips onto the face the turn leans it to and rests there.
+    # A dissipative contact cannot give energy: the cube's kinetic energy never exceeds
+    # the potential energy it has lost. At rest it lies flat (a multiple of 90 degrees
+    # within 0.5 degree), carries its weight (0.2 %, the stacked cubes' bar) and stays in
+    # its section (the scene is symmetric across the width)
+    a = math.radians(EDGE_ANGLE)
+    y0 = 0.5 * EDGE_SIDE * (math.cos(a) + math.sin(a)) + 0.01
+    proc, out = run_case(EDGE.format(y=y0, L=EDGE_SIDE, a=EDGE_ANGLE, rho=EDGE_DENSITY), tmp_path, binary=mbsph3d)
+    assert_ok(proc)
+    b = read_csv(out / "bodies.csv")
+    m = EDGE_DENSITY * EDGE_SIDE**3
+    inertia = m * EDGE_SIDE**2 / 6.0
+    speed2 = b["u"]**2 + b["v"]**2 + b["w"]**2
+    spin2 = b["omega_x"]**2 + b["omega_y"]**2 + b["omega_z"]**2
+    kinetic = 0.5 * m * speed2 + 0.5 * inertia * spin2
+    released = m * G * (y0 - b["y"])
+    gain = float(np.max(kinetic - released))
+    assert gain <= 1e-3 * m * G * 0.01, f"kinetic energy above the potential energy released by {gain:.3e} J"
+    about_z = np.degrees(2.0 * np.arctan2(b["qz"], b["qw"]))
+    turn = float(about_z[-1])
+    assert abs(turn - 90.0 * round(turn / 90.0)) <= 0.5, f"rests turned {turn:.2f} deg"
+    assert abs(float(about_z[-1]) - EDGE_ANGLE) >= 20.0, "never tipped off its edge"
+    late = b["time"] >= 0.8
+    ratio = float(np.mean(b["fy_contact"][late] + b["fy_friction"][late]) / (m * G))
+    assert abs(ratio - 1.0) <= 0.002, f"contact force / weight = {ratio:.5f}"
+    assert float(np.max(np.hypot(b["qx"], b["qy"]))) <= 1e-8, "turned out of its section"
