@@ -102,22 +102,15 @@ contains
    !> vector in 2D (n turned by +90 degrees), two in 3D.
    pure function tangent_basis(n) result(e)
       real(rp), intent(in) :: n(ndim)
-      real(rp) :: e(ndim, ndim - 1)
-      integer :: k, k1, k2
+      real(rp) :: e(ndim, ndim - 1), a(ndim)
       if (ndim == 2) then
          e(1, 1) = -n(ndim)
          e(ndim, 1) = n(1)
       else
-         ! the axis least aligned with n, made orthogonal to it; then n x e1
-         e(:, 1) = 0.0_rp
-         e(minloc(abs(n), 1), 1) = 1.0_rp
-         e(:, 1) = e(:, 1) - dot_product(e(:, 1), n)*n
-         e(:, 1) = e(:, 1)/norm2(e(:, 1))
-         do k = 1, ndim
-            k1 = mod(k, ndim) + 1
-            k2 = mod(k + 1, ndim) + 1
-            e(k, ndim - 1) = n(k1)*e(k2, 1) - n(k2)*e(k1, 1)
-         end do
+         ! along the axis least aligned with n
+         a = 0.0_rp
+         a(minloc(abs(n), 1)) = 1.0_rp
+         e = tangent_basis_along(n, a)
       end if
    end function tangent_basis
 
