@@ -137,6 +137,14 @@ def compare(out_dir: str | Path, a: float, x_wall: float, g: float | None = None
     return FrontComparison(T_sim, Z_sim, Z_at, float(rel.max()) if rel.size else float("nan"))
 
 
+def front_difference(run: FrontComparison, ref: FrontComparison, t_from: float = 0.5) -> float:
+    """Largest |Z_run - Z_ref| / Z_ref over the snapshots of ``ref`` from ``t_from`` on (``run``
+    interpolated at them: the snapshots fall on the first step after each output time)."""
+    w = (ref.T >= t_from) & (ref.T <= run.T[-1]) & np.isfinite(ref.Z_sim)
+    z = np.interp(ref.T[w], run.T, run.Z_sim)
+    return float(np.max(np.abs(z - ref.Z_sim[w]) / ref.Z_sim[w]))
+
+
 def _geometry(out_dir: Path, a: float | None, x_wall: float | None) -> tuple[float, float]:
     """Column width and wall position: the given values, else the first fluid &box of case.nml."""
     if a is None or x_wall is None:
@@ -148,8 +156,9 @@ def _geometry(out_dir: Path, a: float | None, x_wall: float | None) -> tuple[flo
     return float(a), float(x_wall)
 
 
-def _figure(result: FrontComparison, a: float) -> Figure:
-    """Z(T) of the run, the experiment and the Ritter front."""
+def _figure(result: FrontComparison, a: float, other: FrontComparison | None = None,
+            labels: tuple[str, str] = ("MBSPH", "")) -> Figure:
+    """Z(T) of the run (and of another one), the experiment and the Ritter front."""
     T_exp, Z_exp = experiment()
     t_max = max(float(np.nanmax(result.T, initial=0.0)), float(T_exp[-1])) * 1.05
     z_max = max(float(np.nanmax(result.Z_sim, initial=0.0)), float(Z_exp[-1])) * 1.1
@@ -157,7 +166,9 @@ def _figure(result: FrontComparison, a: float) -> Figure:
     T_line = np.linspace(0.0, t_max, 200)
     ax.plot(T_line, ritter_front(T_line), "k--", lw=1, label="Ritter shallow water, Z = 1 + 2T")
     ax.plot(T_exp, Z_exp, "s", mfc="none", color="C3", label="Martin & Moyce (1952), $n^2 = 2$")
-    ax.plot(result.T, result.Z_sim, "-o", ms=3, color="C0", label=f"MBSPH, a = {a:g} m")
+    ax.plot(result.T, result.Z_sim, "-o", ms=3, color="C0", label=f"{labels[0]}, a = {a:g} m")
+    if other is not None:
+        ax.plot(other.T, other.Z_sim, "-x", ms=4, color="C2", label=labels[1])
     ax.axvspan(*ERROR_WINDOW, color="0.9", zorder=0)
     ax.set_xlim(0.0, t_max)
     ax.set_ylim(0.8, z_max)
@@ -179,6 +190,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--a", type=float, help="column width a (m); default from case.nml")
     parser.add_argument("--x-wall", type=float, help="wall position behind the column (m); default from case.nml")
     parser.add_argument("--out", type=Path, help="PNG file (default OUT/dambreak_front.png)")
+    parser.add_argument("--vs", type=Path, help="another run of the same dam break (e.g. the 2D one of a 3D run): "
+                        "its front too, and the largest relative difference of the two from T = 0.5 on")
+    parser.add_argument("--labels", nargs=2, default=("MBSPH", "MBSPH, --vs"), metavar=("RUN", "VS"),
+                        help="legend labels of the run and of the --vs run")
     args = parser.parse_args(argv)
     try:
         a, x_wall = _geometry(args.out_dir, args.a, args.x_wall)
@@ -202,8 +217,13 @@ def main(argv: Sequence[str] | None = None) -> int:
                   f"({100 * (s_sim - s_exp) / s_exp:+.1f} %); mean lead {np.mean(result.Z_sim[w] - result.Z_exp[w]):.3f} a")
     else:
         print("max relative error for 1 <= T <= 3: no snapshot in that range")
+    other = None
+    if args.vs is not None:
+        other = compare(args.vs, a, x_wall)
+        print(f"largest relative difference from the --vs run for T >= 0.5: "
+              f"{100 * front_difference(result, other):.2f} %")
     out = args.out_dir / "dambreak_front.png" if args.out is None else args.out
-    print(f"wrote {save_figure(_figure(result, a), out)}")
+    print(f"wrote {save_figure(_figure(result, a, other, tuple(args.labels)), out)}")
     return 0
 
 

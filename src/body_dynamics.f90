@@ -15,7 +15,7 @@ module body_dynamics
    public :: body_t, pose_t, nrot, ndof, bodies_place, bodies_fluid_forces, &
              bodies_damping_reset, bodies_damping_add, &
              bodies_save, bodies_predict, bodies_correct_symplectic, bodies_correct_pc, bodies_verlet, &
-             bodies_accel2, body_of, bodies_energy, bodies_pack_sums, bodies_unpack_sums, bodies_prescribe
+             bodies_accel2, body_of, bodies_energy, bodies_pack_sums, bodies_unpack_sums, bodies_prescribe, body_arm
 
 
    !> forces and torques of a body summed over the ranks: f_fluid, t_fluid, f_normal, t_normal, f_fric, t_fric
@@ -40,6 +40,9 @@ module body_dynamics
       real(rp) :: mu = 0.0_rp, restitution = 0.5_rp, young = 2.0e10_rp, poisson = 0.2_rp
       real(rp) :: rbound = 0.0_rp           !< largest distance of a particle from the centre [m]
       real(rp) :: g = 9.81_rp               !< gravity [m/s2]
+      !> the width of periodic sides across (3D) [m], 0 without: a point's arm from the
+      !> centre is that of its image nearest the centre (body_arm)
+      real(rp) :: period_z = 0.0_rp
       ! forces and torques of the last evaluation, by source
       real(rp) :: f_fluid(ndim) = 0.0_rp, t_fluid(nrot) = 0.0_rp
       real(rp) :: f_normal(ndim) = 0.0_rp, t_normal(nrot) = 0.0_rp
@@ -68,13 +71,26 @@ contains
       if (b < 1 .or. b > size(bodies)) b = 0
    end function body_of
 
+   !> The arm x - c of point x from the centre of body b; with periodic
+   !> sides, of the image of x nearest the centre.
+   pure function body_arm(b, x) result(r)
+      type(body_t), intent(in) :: b
+      real(rp), intent(in) :: x(ndim)
+      real(rp) :: r(ndim)
+      r = x - b%pose%c
+      if (b%period_z > 0.0_rp) r(ndim) = r(ndim) - b%period_z*anint(r(ndim)/b%period_z)
+   end function body_arm
+
    !> Particles of every body from its pose: x = c + R xb, R the rotation
    !> from the pose at the start (the particles' frame) to the pose now.
+   !> With periodic sides each particle stays on the side of the width where
+   !> it was (where the grid sorted it, or its image): the position one
+   !> whole number of widths away nearest the old one.
    subroutine bodies_place(bodies, p)
       type(body_t), intent(in) :: bodies(:)
       type(particles_t), intent(inout) :: p
       integer :: i, b
-      real(rp) :: rot(ndim, ndim, size(bodies)), r(ndim)
+      real(rp) :: rot(ndim, ndim, size(bodies)), r(ndim), xo
       do b = 1, size(bodies)
          rot(:, :, b) = rigid_rotation(bodies(b)%pose, bodies(b)%pose_start)
       end do
@@ -82,7 +98,10 @@ contains
          b = body_of(bodies, p%body(i))
          if (b == 0) cycle
          r = rigid_rotate(rot(:, :, b), p%xb(:, i))
+         xo = p%x(ndim, i)
          p%x(:, i) = bodies(b)%pose%c + r
+         if (bodies(b)%period_z > 0.0_rp) p%x(ndim, i) = p%x(ndim, i) - &
+            bodies(b)%period_z*anint((p%x(ndim, i) - xo)/bodies(b)%period_z)
          p%v(:, i) = rigid_point_velocity(bodies(b)%v, bodies(b)%omega, r)
          p%nrm(:, i) = rigid_rotate(rot(:, :, b), p%nb(:, i))
          if (p%mdbc) p%gof(:, i) = rigid_rotate(rot(:, :, b), p%gob(:, i))
@@ -105,7 +124,7 @@ contains
          if (p%kind(i) /= kind_floating) cycle
          b = body_of(bodies, p%body(i))
          f = p%mass(i)*acc(:, i)
-         r = p%x(:, i) - bodies(b)%pose%c
+         r = body_arm(bodies(b), p%x(:, i))
          bodies(b)%f_fluid = bodies(b)%f_fluid + f
          call rigid_moment_add(bodies(b)%t_fluid, r, f)
       end do
@@ -215,7 +234,7 @@ contains
          type(body_t), intent(in) :: b
          real(rp), intent(in) :: x(ndim)
          real(rp) :: jv(ndof), r(ndim)
-         r = x - b%pose%c
+         r = body_arm(b, x)
          jv = [e, rigid_moment(r, e)]
       end function rate
    end subroutine bodies_damping_add

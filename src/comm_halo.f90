@@ -12,21 +12,28 @@
 !> Migration (every step, before the sort) sends the particles that crossed
 !> a slab edge to the neighbour that now owns them; redistribution (after
 !> the slab edges moved) sends every particle to its owner, wherever it is.
-!> On one rank every routine returns at once. The messages themselves go
-!> through the typed wrappers of comm (the only module that uses MPI).
+!> The images of periodic sides (3D) are a halo of the rank itself: copies
+!> of the particles along either side, after the halo (comm_halo_images).
+!> The same forward and reverse calls serve them: forward copies the
+!> originals' values to the images after the halo's exchange, reverse adds
+!> what the images gathered to their originals before it. Without MPI (one
+!> rank) only the images remain to do. The messages themselves go through
+!> the typed wrappers of comm (the only module that uses MPI).
 module comm_halo
    use kinds, only: rp, lk
    use constants, only: ndim
    use particles, only: particles_t, particles_grow, particles_pack, particles_unpack, particles_copy, particles_width, &
                         particles_fill_uncarried, ensure => work_array
    use decomp, only: decomp_t, decomp_owner
+   use grid, only: grid_t, grid_add_images
    use comm, only: comm_rank, comm_size, comm_sendrecv, comm_alltoall, comm_alltoallv, comm_no_rank
    use timers, only: timer_start, timer_stop, t_comm
    use errors, only: fatal, alloc_check
    implicit none
    private
    public :: halo_t, comm_halo_migrate, comm_halo_build, comm_halo_refresh, comm_halo_forward, comm_halo_reverse, &
-             comm_halo_redistribute
+             comm_halo_redistribute, comm_halo_images, comm_halo_refresh_images, comm_halo_fold_images, &
+             comm_halo_copy_images
 
    interface comm_halo_forward
       module procedure forward_1, forward_2
@@ -43,6 +50,9 @@ module comm_halo
    type :: halo_t
       integer :: n_send = 0                 !< owned particles 1 .. n_send are the left neighbour's halo
       integer :: n_recv = 0                 !< halo particles n_own+1 .. n_own+n_recv
+      integer :: n_img = 0                  !< images of periodic sides: n_own+n_recv+1 .. n_own+n_recv+n_img
+      integer, allocatable :: img_src(:)    !< the original of each image
+      real(rp), allocatable :: img_dz(:)    !< the image's shift across the width [m]
       real(rp), allocatable :: sbuf(:), rbuf(:), sbuf2(:), rbuf2(:)
    end type halo_t
 
@@ -96,6 +106,7 @@ contains
       p%n = p%n_own
       h%n_send = 0
       h%n_recv = 0
+      h%n_img = 0
       nl = 0
       nr = 0
       do i = 1, p%n
@@ -168,6 +179,7 @@ contains
          call particles_pack(p, i, .true., h%sbuf, k + 1)
       end do
       h%n_recv = 0
+      h%n_img = 0
       call comm_sendrecv(h%n_send, left(), h%n_recv, right())
       call ensure(h%rbuf, max(h%n_recv, 1)*nhalo)
       call comm_sendrecv(h%sbuf, h%n_send*nhalo, left(), h%rbuf, h%n_recv*nhalo, right())
@@ -190,7 +202,10 @@ contains
       type(particles_t), intent(inout) :: p
       integer, parameter :: nv = 2*ndim + 1     ! position, velocity, density
       integer :: i, k
-      if (comm_size() == 1) return
+      if (comm_size() == 1) then
+         call comm_halo_refresh_images(h, p)
+         return
+      end if
       call timer_start(t_comm)
       call ensure(h%sbuf, max(h%n_send, 1)*nv)
       call ensure(h%rbuf, max(h%n_recv, 1)*nv)
@@ -206,43 +221,128 @@ contains
          p%rho(p%n_own + i) = h%rbuf(k + nv)
       end do
       call timer_stop(t_comm)
+      call comm_halo_refresh_images(h, p)
    end subroutine comm_halo_refresh
+
+   !> After the sort and the halo: the images of the periodic sides (none
+   !> without them), appended after the halo.
+   subroutine comm_halo_images(h, g, p)
+      type(halo_t), intent(inout) :: h
+      type(grid_t), intent(inout) :: g
+      type(particles_t), intent(inout) :: p
+      integer :: k, n0, ist
+      character(len=200) :: emsg
+      n0 = p%n
+      call grid_add_images(g, p, h%img_src, h%n_img)
+      if (h%n_img == 0) return
+      if (allocated(h%img_dz)) then
+         if (size(h%img_dz) < h%n_img) deallocate (h%img_dz)
+      end if
+      if (.not. allocated(h%img_dz)) then
+         allocate (h%img_dz(size(h%img_src)), stat=ist, errmsg=emsg)
+         call alloc_check(ist, emsg, 'the shifts of the images', size(h%img_src))
+      end if
+      do k = 1, h%n_img
+         h%img_dz(k) = p%x(ndim, n0 + k) - p%x(ndim, h%img_src(k))
+      end do
+   end subroutine comm_halo_images
+
+   !> The images' positions, velocities and densities from their originals
+   !> (the halo's refreshed first).
+   subroutine comm_halo_refresh_images(h, p)
+      type(halo_t), intent(in) :: h
+      type(particles_t), intent(inout) :: p
+      integer :: k, i, n0
+      n0 = p%n_own + h%n_recv
+      do k = 1, h%n_img
+         i = h%img_src(k)
+         p%x(:, n0 + k) = p%x(:, i)
+         p%x(ndim, n0 + k) = p%x(ndim, i) + h%img_dz(k)
+         p%v(:, n0 + k) = p%v(:, i)
+         p%rho(n0 + k) = p%rho(i)
+      end do
+   end subroutine comm_halo_refresh_images
+
+   !> The sums of the images with particle numbers i0 .. i1 added to their
+   !> originals and set to zero (a later reverse adds nothing more): a sweep
+   !> that finishes its sums column by column (fluid_forces).
+   subroutine comm_halo_fold_images(h, a, n_own, i0, i1)
+      type(halo_t), intent(in) :: h
+      real(rp), intent(inout) :: a(:, :)
+      integer, intent(in) :: n_own, i0, i1
+      integer :: i, n0
+      n0 = n_own + h%n_recv
+      do i = i0, i1
+         a(:, h%img_src(i - n0)) = a(:, h%img_src(i - n0)) + a(:, i)
+         a(:, i) = 0.0_rp
+      end do
+   end subroutine comm_halo_fold_images
+
+   !> The originals' values to the images i0 .. i1.
+   subroutine comm_halo_copy_images(h, a, n_own, i0, i1)
+      type(halo_t), intent(in) :: h
+      real(rp), intent(inout) :: a(:, :)
+      integer, intent(in) :: n_own, i0, i1
+      integer :: i, n0
+      n0 = n_own + h%n_recv
+      do i = i0, i1
+         a(:, i) = a(:, h%img_src(i - n0))
+      end do
+   end subroutine comm_halo_copy_images
 
    !> Owner's values of a per-particle array to the halo copies.
    subroutine forward_2(h, a, n_own)
       type(halo_t), intent(inout) :: h
       real(rp), intent(inout) :: a(:, :)
       integer, intent(in) :: n_own
-      integer :: m
-      if (comm_size() == 1) return
-      call timer_start(t_comm)
-      m = size(a, 1)
-      call ensure(h%sbuf, max(h%n_send, 1)*m)
-      call ensure(h%rbuf, max(h%n_recv, 1)*m)
-      h%sbuf(1:h%n_send*m) = reshape(a(:, 1:h%n_send), [h%n_send*m])
-      call comm_sendrecv(h%sbuf, h%n_send*m, left(), h%rbuf, h%n_recv*m, right())
-      a(:, n_own + 1:n_own + h%n_recv) = reshape(h%rbuf(1:h%n_recv*m), [m, h%n_recv])
-      call timer_stop(t_comm)
+      integer :: m, k
+      if (comm_size() > 1) then
+         call timer_start(t_comm)
+         m = size(a, 1)
+         call ensure(h%sbuf, max(h%n_send, 1)*m)
+         call ensure(h%rbuf, max(h%n_recv, 1)*m)
+         h%sbuf(1:h%n_send*m) = reshape(a(:, 1:h%n_send), [h%n_send*m])
+         call comm_sendrecv(h%sbuf, h%n_send*m, left(), h%rbuf, h%n_recv*m, right())
+         a(:, n_own + 1:n_own + h%n_recv) = reshape(h%rbuf(1:h%n_recv*m), [m, h%n_recv])
+         call timer_stop(t_comm)
+      end if
+      do k = 1, h%n_img
+         a(:, n_own + h%n_recv + k) = a(:, h%img_src(k))
+      end do
    end subroutine forward_2
 
    subroutine forward_1(h, a, n_own)
       type(halo_t), intent(inout) :: h
       real(rp), intent(inout) :: a(:)
       integer, intent(in) :: n_own
-      if (comm_size() == 1) return
-      call timer_start(t_comm)
-      call ensure(h%rbuf, max(h%n_recv, 1))
-      call comm_sendrecv(a, h%n_send, left(), h%rbuf, h%n_recv, right())
-      a(n_own + 1:n_own + h%n_recv) = h%rbuf(1:h%n_recv)
-      call timer_stop(t_comm)
+      integer :: k
+      if (comm_size() > 1) then
+         call timer_start(t_comm)
+         call ensure(h%rbuf, max(h%n_recv, 1))
+         call comm_sendrecv(a, h%n_send, left(), h%rbuf, h%n_recv, right())
+         a(n_own + 1:n_own + h%n_recv) = h%rbuf(1:h%n_recv)
+         call timer_stop(t_comm)
+      end if
+      do k = 1, h%n_img
+         a(n_own + h%n_recv + k) = a(h%img_src(k))
+      end do
    end subroutine forward_1
 
    !> What the pair loops added to the halo copies, added on the owner.
-   subroutine reverse_2(h, a, n_own)
+   subroutine reverse_2(h, a, n_own, images)
       type(halo_t), intent(inout) :: h
       real(rp), intent(inout) :: a(:, :)
       integer, intent(in) :: n_own
-      integer :: m
+      logical, intent(in), optional :: images   !< .false.: the images were folded already (comm_halo_fold_images)
+      integer :: m, k
+      logical :: fold
+      fold = .true.
+      if (present(images)) fold = images
+      if (fold) then
+         do k = 1, h%n_img
+            a(:, h%img_src(k)) = a(:, h%img_src(k)) + a(:, n_own + h%n_recv + k)
+         end do
+      end if
       if (comm_size() == 1) return
       call timer_start(t_comm)
       m = size(a, 1)
@@ -258,6 +358,10 @@ contains
       type(halo_t), intent(inout) :: h
       real(rp), intent(inout) :: a(:)
       integer, intent(in) :: n_own
+      integer :: k
+      do k = 1, h%n_img
+         a(h%img_src(k)) = a(h%img_src(k)) + a(n_own + h%n_recv + k)
+      end do
       if (comm_size() == 1) return
       call timer_start(t_comm)
       call ensure(h%sbuf, max(h%n_recv, 1))
@@ -273,6 +377,11 @@ contains
       real(rp), intent(inout) :: a(:, :), b(:)
       integer, intent(in) :: n_own
       integer :: m, i, k
+      do k = 1, h%n_img
+         i = h%img_src(k)
+         a(:, i) = a(:, i) + a(:, n_own + h%n_recv + k)
+         b(i) = b(i) + b(n_own + h%n_recv + k)
+      end do
       if (comm_size() == 1) return
       call timer_start(t_comm)
       m = size(a, 1)
@@ -311,6 +420,7 @@ contains
       p%n = p%n_own
       h%n_send = 0
       h%n_recv = 0
+      h%n_img = 0
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (scount(0:nr - 1), rcount(0:nr - 1), sdispl(0:nr - 1), rdispl(0:nr - 1), dest(p%n), fill(0:nr - 1), &
                 stat=ist, errmsg=emsg)

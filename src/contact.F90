@@ -16,7 +16,7 @@ module contact
    use params, only: params_t
    use grid, only: grid_t, grid_ranges, grid_last_cell, grid_nranges
    use particles, only: particles_t
-   use body_dynamics, only: body_t, body_of, bodies_damping_reset
+   use body_dynamics, only: body_t, body_of, bodies_damping_reset, body_arm
    use rigid, only: rigid_point_velocity
    use options, only: model_dynamic, model_repulsive, model_noncohesive, &
                       model_spring, model_hertz, motion_floating, motion_fixed
@@ -231,7 +231,7 @@ contains
          integer :: b
          b = body_of(bodies, id)
          if (b > 0) then
-            v = rigid_point_velocity(bodies(b)%v, bodies(b)%omega, xc - bodies(b)%pose%c)
+            v = rigid_point_velocity(bodies(b)%v, bodies(b)%omega, body_arm(bodies(b), xc))
          else
             v = ct%kv(:, k)/ct%kw(k)
          end if
@@ -281,7 +281,7 @@ contains
          near: do b = 1, size(bodies)
             if (bodies(b)%motion /= motion_floating) cycle near
             reach = bodies(b)%rbound + 2.0_rp*prm%h + prm%dp
-            if (sum((p%x(:, i) - bodies(b)%pose%c)**2) < reach**2) then
+            if (sum(body_arm(bodies(b), p%x(:, i))**2) < reach**2) then
                ct%cand(i) = .true.
                exit near
             end if

@@ -7,7 +7,7 @@ module contact_eq
    use constants, only: ndim
    use params, only: params_t
    use particles, only: particles_t
-   use body_dynamics, only: body_t
+   use body_dynamics, only: body_t, body_arm
    use options, only: model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
    use contact_state, only: contact_t, key_index, store_pair
    use contact_pair, only: pair_force, pair_friction, pair_viscous, velocity_at, contact_normal, partition_weight, &
@@ -25,8 +25,8 @@ contains
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
       type(body_t), intent(in) :: bodies(:)
-      integer :: m, i, j, bi, bj, k
-      real(rp) :: d(ndim), n(ndim), psi_c, pw, psi, q, rq
+      integer :: m, i, j, bi, bj, k, b
+      real(rp) :: d(ndim), n(ndim), psi_c, pw, psi, q, rq, xm(ndim)
       pairs: do m = 1, ct%nc
          i = ct%cij(1, m); j = ct%cij(2, m); bi = ct%cij(3, m); bj = ct%cij(4, m)
          d = p%x(:, i) - p%x(:, j)
@@ -41,7 +41,14 @@ contains
          rq = rhat(ct, q)                          ! R(psi)/A, bounded at contact
          ct%max_penetration = max(ct%max_penetration, prm%dp - psi_c)
          k = key_index(ct, p%body(i), p%body(j))
-         ct%kx(:, k) = ct%kx(:, k) + rq*pw*0.5_rp*(p%x(:, i) + p%x(:, j))
+         ! the pair's midpoint; with periodic sides its image nearest a body's centre (the
+         ! pairs of one contact may be met on either side)
+         xm = 0.5_rp*(p%x(:, i) + p%x(:, j))
+         b = max(bi, bj)
+         if (b > 0) then
+            if (bodies(b)%period_z > 0.0_rp) xm = bodies(b)%pose%c + body_arm(bodies(b), xm)
+         end if
+         ct%kx(:, k) = ct%kx(:, k) + rq*pw*xm
          ct%kw(k) = ct%kw(k) + rq*pw
          ct%kt(1:ndim, k) = ct%kt(1:ndim, k) + merge(rq*pw, -rq*pw, p%body(i) < p%body(j))*n
          if (bi == 0) ct%kv(:, k) = ct%kv(:, k) + rq*pw*p%v(:, i)

@@ -8,7 +8,7 @@ module contact_pair
    use constants, only: ndim, pi
    use tensor, only: tangent_basis, tangent_basis_along
    use particles, only: particles_t
-   use body_dynamics, only: body_t, bodies_damping_add
+   use body_dynamics, only: body_t, bodies_damping_add, body_arm
    use rigid, only: pose_t, rigid_moment_add, rigid_moment_sub, rigid_point_velocity, rigid_rotation
    use options, only: motion_floating
    use contact_state, only: contact_t
@@ -29,7 +29,7 @@ contains
       logical, intent(in) :: normal
       real(rp) :: r(ndim)
       if (bi > 0) then
-         r = p%x(:, i) - bodies(bi)%pose%c
+         r = body_arm(bodies(bi), p%x(:, i))
          if (normal) then
             bodies(bi)%f_normal = bodies(bi)%f_normal + f
             call rigid_moment_add(bodies(bi)%t_normal, r, f)
@@ -39,7 +39,7 @@ contains
          end if
       end if
       if (bj > 0) then
-         r = p%x(:, j) - bodies(bj)%pose%c
+         r = body_arm(bodies(bj), p%x(:, j))
          if (normal) then
             bodies(bj)%f_normal = bodies(bj)%f_normal - f
             call rigid_moment_sub(bodies(bj)%t_normal, r, f)
@@ -171,7 +171,7 @@ contains
       real(rp), intent(in) :: x(ndim)
       real(rp) :: v(ndim)
       if (b > 0) then
-         v = rigid_point_velocity(bodies(b)%v, bodies(b)%omega, x - bodies(b)%pose%c)
+         v = rigid_point_velocity(bodies(b)%v, bodies(b)%omega, body_arm(bodies(b), x))
       else
          v = p%v(:, own)
       end if

@@ -14,7 +14,8 @@ module fluid_forces
    use tensor, only: sym_slot
    use params, only: params_t, visc_laminar_sps, diff_none, diff_fourtakas, kgc_gradient, bnd_repulsive, bnd_mdbc, &
                      slip_wall, shift_none
-   use grid, only: grid_t, grid_ranges, grid_last_cell, grid_neighbours, grid_nranges
+   use grid, only: grid_t, grid_ranges, grid_last_cell, grid_neighbours, grid_nranges, grid_image_range
+   use comm_halo, only: halo_t, comm_halo_fold_images, comm_halo_copy_images
    use particles, only: particles_t
    use eos, only: eos_update, eos_dynamic_density
    use nbr_list, only: nbr_t, nbr_build
@@ -303,12 +304,16 @@ contains
    !> 12 bytes a pair. On several ranks the slab's first column waits for the
    !> halo's share of its sums (from the previous rank) and the last for the
    !> halo's matrices (from the next): forces_sweep_first and
-   !> forces_sweep_last finish them after the step's halo exchanges.
-   subroutine forces_sweep(prm, g, p, w)
+   !> forces_sweep_last finish them after the step's halo exchanges. With
+   !> periodic sides the images of column c (met by the rows of c-1 and c)
+   !> give their sums to their originals before c is finished, and take the
+   !> finished values after.
+   subroutine forces_sweep(prm, g, p, w, halo)
       type(params_t), intent(in) :: prm
       type(grid_t), intent(in) :: g
       type(particles_t), intent(in) :: p
       type(forces_work_t), intent(inout) :: w
+      type(halo_t), intent(in) :: halo
       integer :: c, s
       logical :: left, right
       if (.not. needs_list(prm)) then
@@ -320,13 +325,49 @@ contains
          s = slot(g, c)
          call nbr_build(w%seg(s), g, p%x, p%n, prm%kernel, prm%h, prm%support2, prm%fw, c)
          call pre_sums(prm, p, w, w%seg(s))
-         if (.not. (c == 1 .and. left)) call pre_finish(prm, p, w, w%seg(s)%i0, w%seg(s)%i1)
+         if (g%periodic) call images_fold(prm, g, p, w, halo, c)
+         if (.not. (c == 1 .and. left)) then
+            call pre_finish(prm, p, w, w%seg(s)%i0, w%seg(s)%i1)
+            if (g%periodic) call images_copy(prm, g, p, w, halo, c)
+         end if
          if (c >= 2) then
             if (.not. (c == 2 .and. left)) call pair_rows(prm, g, p, w, w%seg(slot(g, c - 1)))
          end if
       end do
       if (.not. right .and. .not. (g%ncol == 1 .and. left)) call pair_rows(prm, g, p, w, w%seg(slot(g, g%ncol)))
    end subroutine forces_sweep
+
+   !> Periodic sides: the sums of the pass before the forces of the images of
+   !> column c added to their originals; with the last column, those of the
+   !> halo's images too (they go with the halo's sums).
+   subroutine images_fold(prm, g, p, w, halo, c)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(inout) :: w
+      type(halo_t), intent(in) :: halo
+      integer, intent(in) :: c
+      integer :: i0, i1, k
+      do k = c, merge(c + 1, c, c == g%ncol)
+         call grid_image_range(g, k, i0, i1)
+         if (prm%kgc == kgc_gradient) call comm_halo_fold_images(halo, w%lm, p%n_own, i0, i1)
+         if (prm%visc == visc_laminar_sps) call comm_halo_fold_images(halo, w%gv, p%n_own, i0, i1)
+      end do
+   end subroutine images_fold
+
+   !> Periodic sides: the finished matrices and stresses of column c to its images.
+   subroutine images_copy(prm, g, p, w, halo, c)
+      type(params_t), intent(in) :: prm
+      type(grid_t), intent(in) :: g
+      type(particles_t), intent(in) :: p
+      type(forces_work_t), intent(inout) :: w
+      type(halo_t), intent(in) :: halo
+      integer, intent(in) :: c
+      integer :: i0, i1
+      call grid_image_range(g, c, i0, i1)
+      if (prm%kgc == kgc_gradient) call comm_halo_copy_images(halo, w%lm, p%n_own, i0, i1)
+      if (prm%visc == visc_laminar_sps) call comm_halo_copy_images(halo, w%tau, p%n_own, i0, i1)
+   end subroutine images_copy
 
    !> After the halo's sums have reached their owners: the matrices and stress
    !> of the first column of a slab with a rank on its left (its forces wait

@@ -110,7 +110,37 @@ contains
       call check_porous(c, tol)
       call check_filters(c)
       call check_mdbc(c)
+      call check_periodic(c)
    end subroutine read_case
+
+   !> Periodic sides: the lattices across the width continue over the side
+   !> (the width a whole number of spacings), one cell column at least 2h
+   !> wide fits, and every body is narrower than the width.
+   subroutine check_periodic(c)
+      type(case_cfg), intent(in) :: c
+      real(rp) :: w, n, h, d
+      integer :: k
+      if (.not. c%domain%periodic_z) return
+      w = c%domain%zmax - c%domain%zmin
+      n = w/c%numerics%dp
+      if (abs(n - nint(n)) > 1.0e-6_rp*n) call input_error(c%file, 'domain', 'zmax', &
+         'with periodic_z the width zmax - zmin must be a whole number of spacings dp = '//real_str(c%numerics%dp)// &
+         ' m (got '//real_str(w)//' m, '//real_str(n)//' spacings)')
+      h = c%numerics%h_over_dp*c%numerics%dp
+      if (w < 2.0_rp*h*(1.0_rp - 1.0e-9_rp)) call input_error(c%file, 'domain', 'zmax', &
+         'with periodic_z the width zmax - zmin must be at least the kernel support 2h = '//real_str(2.0_rp*h)// &
+         ' m (got '//real_str(w)//' m)')
+      do k = 1, size(c%bodies)
+         ! a body's arms are those of the images of its particles nearest its centre: turned
+         ! any way, it must stay narrower than the width
+         associate (b => c%bodies(k))
+            d = sqrt(b%width**2 + b%height**2 + b%depth**2) + c%numerics%dp
+            if (d >= w) call input_error(c%file, 'body #'//int_str(k), 'width, height, depth', &
+               'with periodic_z a body must be narrower than the width turned any way: its diagonal plus dp, '// &
+               real_str(d)//' m, must be less than zmax - zmin = '//real_str(w)//' m')
+         end associate
+      end do
+   end subroutine check_periodic
 
    !> The modified dynamic boundary sets the solids' density from the water
    !> beyond them: what acts through the solids' own continuity equation (the

@@ -33,6 +33,7 @@ module input_body
       character(len=name_len) :: motion = 'floating'   !< 'floating' | 'fixed' | 'prescribed'
       integer :: motion_id = motion_floating           !< motion as its value in options (motion_*)
       real(rp) :: u = 0.0_rp, v = 0.0_rp               !< initial (or prescribed) velocity [m/s]
+      real(rp) :: w = 0.0_rp                           !< initial velocity across the width (3D, floating) [m/s]
       real(rp) :: omega = 0.0_rp                       !< initial (or prescribed) angular velocity [rad/s]
       real(rp) :: amplitude_x = 0.0_rp, amplitude_y = 0.0_rp  !< prescribed oscillation of the centre [m]
       real(rp) :: amplitude_angle = 0.0_rp             !< prescribed oscillation of the angle [rad]
@@ -65,12 +66,12 @@ module input_body
    type(body_cfg) :: dflt
    character(len=name_len) :: shape, motion, model
    real(rp) :: x, y, radius, width, height, angle, density, mass, u, v, omega, mu, restitution, young, poisson
-   real(rp) :: z, depth
+   real(rp) :: z, depth, w
    real(rp) :: amplitude_x, amplitude_y, amplitude_angle, period, phase
    real(rp) :: vx(body_max_vert), vy(body_max_vert)
    integer :: nvert, layers
    namelist /body/ shape, x, y, radius, width, height, angle, nvert, vx, vy, density, mass, motion, u, v, &
-      omega, amplitude_x, amplitude_y, amplitude_angle, period, phase, mu, restitution, young, poisson, layers, z, depth
+      omega, amplitude_x, amplitude_y, amplitude_angle, period, phase, mu, restitution, young, poisson, layers, z, depth, w
    real(rp) :: r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier, core_overlap
    namelist /contact/ model, r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier, core_overlap
 
@@ -83,7 +84,7 @@ contains
       motion = c%motion; u = c%u; v = c%v; omega = c%omega; mu = c%mu; restitution = c%restitution
       young = c%young; poisson = c%poisson; layers = c%layers
       amplitude_x = c%amplitude_x; amplitude_y = c%amplitude_y; amplitude_angle = c%amplitude_angle
-      period = c%period; phase = c%phase; z = c%z; depth = c%depth
+      period = c%period; phase = c%phase; z = c%z; depth = c%depth; w = c%w
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -93,7 +94,7 @@ contains
       c%motion = motion; c%u = u; c%v = v; c%omega = omega; c%mu = mu; c%restitution = restitution
       c%young = young; c%poisson = poisson; c%layers = layers
       c%amplitude_x = amplitude_x; c%amplitude_y = amplitude_y; c%amplitude_angle = amplitude_angle
-      c%period = period; c%phase = phase; c%z = z; c%depth = depth
+      c%period = period; c%phase = phase; c%z = z; c%depth = depth; c%w = w
    end subroutine from_vars
 
    subroutine read_bodies(file, dp, bodies)
@@ -157,8 +158,8 @@ contains
             call check_real(file, g, 'young', c%young, 1.0e3_rp, 1.0e13_rp)
             call check_real(file, g, 'poisson', c%poisson, 0.0_rp, 0.5_rp, hi_open=.true.)
             call check_int(file, g, 'layers', c%layers, 0, 100)
-            if (abs(c%u) > 1.0e3_rp .or. abs(c%v) > 1.0e3_rp) call input_error(file, g, 'u, v', &
-               'speeds above 1000 m/s ('//real_str(max(abs(c%u), abs(c%v)))//') are not meant')
+            if (max(abs(c%u), abs(c%v), abs(c%w)) > 1.0e3_rp) call input_error(file, g, 'u, v, w', &
+               'speeds above 1000 m/s ('//real_str(max(abs(c%u), abs(c%v), abs(c%w)))//') are not meant')
             if (abs(c%omega) > 1.0e3_rp*pi) call input_error(file, g, 'omega', 'above 1000 pi rad/s')
             call check_oscillation(file, g, c)
             call check_width(file, g, c, dp)
@@ -184,8 +185,12 @@ contains
          if (abs(c%z) > 0.0_rp .or. abs(c%depth) > 0.0_rp) call input_error(file, g, &
             trim(merge('z    ', 'depth', abs(c%z) > 0.0_rp)), 'a body across the width is for the 3D build (build/mbsph3d); '// &
             'leave it out in 2D')
+         if (abs(c%w) > 0.0_rp) call input_error(file, g, 'w', 'a velocity across the width is for the 3D build '// &
+                                                 '(build/mbsph3d); leave it out in 2D')
          return
       end if
+      if (abs(c%w) > 0.0_rp .and. c%motion_id /= motion_floating) call input_error(file, g, 'w', &
+         'a velocity across the width is for a floating body (a prescribed one moves in the section)')
       if (c%shape_id /= shape_box) call input_error(file, g, 'shape', 'the 3D build has box bodies only yet '// &
                                                     "(doc/3d.md): 'box'; got '"//trim(c%shape)//"'")
       call check_real(file, g, 'depth', c%depth, 2.0_rp*dp, 1.0e4_rp)

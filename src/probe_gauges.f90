@@ -198,7 +198,9 @@ contains
       if (ndim == 3) xl(ndim) = z
       call grid_line_ranges(g, xl, jlo, jhi)
       do r = 1, grid_npoint
-         in_cell: do j = jlo(r), min(jhi(r), p%n_own)
+         ! the slab's columns hold owned particles only; the ghost columns across, the images
+         ! of periodic sides (their positions refreshed by the caller)
+         in_cell: do j = jlo(r), jhi(r)
             if (p%kind(j) /= kind_fluid) cycle in_cell
             dx = x - p%x(1, j)
             if (ndim == 3) dx = hypot(dx, z - p%x(ndim, j))

@@ -281,7 +281,8 @@ contains
       me = comm_rank()
       ! (the width, the box's last pair, is taken in 3D only)
       call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h, &
-                     zmin=r%rc%box(2*ndim - 1), zmax=r%rc%box(2*ndim))
+                     zmin=r%rc%box(2*ndim - 1), zmax=r%rc%box(2*ndim), &
+                     periodic=r%rc%periodic_z)
       call decomp_init(r%dc, r%g%x0, r%g%cs, r%g%ncx_all, nr, me)
       if (nr == 1) return
       same = size(counts) == nr .and. size(edges) == nr + 1
@@ -320,7 +321,8 @@ contains
       call particles_permute(r%p, perm, nkeep)
       r%p%n_own = r%p%n
       call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h, &
-                     decomp_lo(r%dc), decomp_hi(r%dc), zmin=r%rc%box(2*ndim - 1), zmax=r%rc%box(2*ndim))
+                     decomp_lo(r%dc), decomp_hi(r%dc), zmin=r%rc%box(2*ndim - 1), zmax=r%rc%box(2*ndim), &
+                     periodic=r%rc%periodic_z)
    contains
       subroutine keep(j)
          integer, intent(in) :: j

@@ -45,5 +45,6 @@ module run_state
       real(rp) :: max_lost_fraction = 0.02_rp  !< stop when more fluid than this is lost
       logical :: restart = .false.             !< the run continues a checkpoint
       real(rp) :: box(2*ndim) = 0.0_rp         !< the domain: xmin, xmax, ymin, ymax (, zmin, zmax) [m]
+      logical :: periodic_z = .false.          !< periodic sides across the width (3D)
    end type run_ctl_t
 end module run_state

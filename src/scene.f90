@@ -163,6 +163,7 @@ contains
          call add_body(c%bodies(k), size(c%objs) + k, c%numerics%dp, &
                        merge(c%bodies(k)%layers, layers, c%bodies(k)%layers > 0), bodies(k), p)
          bodies(k)%g = c%fluid%gravity
+         if (c%domain%periodic_z) bodies(k)%period_z = c%domain%zmax - c%domain%zmin
       end do
    end subroutine scene_bodies
 
@@ -186,6 +187,7 @@ contains
       if (b%motion /= motion_fixed) then
          ! in 3D the body starts moving in the section (x, y) and turning about z
          b%v = 0.0_rp; b%v(1:nsec) = [bc%u, bc%v]
+         if (ndim == 3) b%v(ndim) = bc%w
          b%omega = 0.0_rp; b%omega(nrot) = bc%omega
       end if
       if (b%motion == motion_prescribed) then
@@ -652,5 +654,6 @@ contains
       rc%restart = c%run%restart
       rc%box(1:4) = [c%domain%xmin, c%domain%xmax, c%domain%ymin, c%domain%ymax]
       if (ndim == 3) rc%box(2*ndim - 1:2*ndim) = [c%domain%zmin, c%domain%zmax]
+      rc%periodic_z = c%domain%periodic_z
    end function scene_run
 end module scene

@@ -16,10 +16,10 @@ module solver
    use body_dynamics, only: body_t, bodies_energy
    use contact, only: contact_t, contact_memory_advance, contact_memory_get
    use io_bodies, only: bodies_csv_t, bodies_csv_row, bodies_csv_close
-   use grid, only: grid_t, grid_init, grid_sort, grid_first_column_end, grid_add_halo
+   use grid, only: grid_t, grid_init, grid_sort, grid_first_column_end, grid_add_halo, grid_wrap
    use decomp, only: decomp_t, decomp_count, decomp_balance, decomp_lo, decomp_hi
    use comm_halo, only: halo_t, comm_halo_migrate, comm_halo_build, comm_halo_redistribute, comm_halo_reverse, &
-                        comm_halo_forward
+                        comm_halo_forward, comm_halo_images, comm_halo_refresh_images
    use eos, only: eos_update
    use fluid_forces, only: forces_work_t, forces_ensure
    use kernel_correction, only: shepard_sums, shepard_apply
@@ -168,6 +168,7 @@ contains
       if (r%rc%restart) return
       r%drop = .false.
       call grid_sort(r%g, r%p, r%drop, cells=size(r%bodies) > 0)
+      call comm_halo_images(r%halo, r%g, r%p)
       call gauges_row(r)
    end subroutine gauges_start
 
@@ -187,6 +188,7 @@ contains
       type(run_t), intent(inout) :: r
       real(rp), allocatable :: acc(:)
       real(rp) :: val(gauges_count(r%gt))
+      call comm_halo_refresh_images(r%halo, r%p)
       call gauges_sums(r%gt, r%prm, r%g, r%p, r%por, acc)
       call comm_sum(acc)
       call gauges_values(r%gt, r%prm, acc, val)
@@ -218,6 +220,7 @@ contains
                        'set absorb = .false.')
          end if
          r%pg%x(1) = pad%x_face + xf + pad%gauge_offset
+         call comm_halo_refresh_images(r%halo, r%p)
          call gauges_sums(r%pg, r%prm, r%g, r%p, r%por, acc)
          call comm_sum(acc)
          call gauges_values(r%pg, r%prm, acc, val)
@@ -238,6 +241,11 @@ contains
       if (comm_size() > 1 .and. r%rc%balance_every > 0) then
          if (mod(r%st%istep, r%rc%balance_every) == 0) call rebalance(r)
       end if
+      ! the halo and the images of the last step are forgotten; a particle
+      ! that crossed a periodic side comes in at the other
+      r%p%n = r%p%n_own
+      r%halo%n_img = 0
+      call grid_wrap(r%g, r%p%n_own, r%p%x)
       call remove_particles(r)
       call comm_halo_migrate(r%halo, r%dc, r%p, r%drop)
       call grid_sort(r%g, r%p, r%drop, cells=size(r%bodies) > 0)
@@ -245,6 +253,7 @@ contains
          call comm_halo_build(r%halo, r%p, grid_first_column_end(r%g))
          if (.not. grid_add_halo(r%g, r%p)) call fatal('the halo arrived out of cell order (internal error)')
       end if
+      call comm_halo_images(r%halo, r%g, r%p)
       if (r%prm%kgc == kgc_shepard .and. mod(r%st%istep + 1, r%prm%shepard_every) == 0) then
          call ensure_scratch(r)
          call shepard_sums(r%prm, r%g, r%p, r%scratch1, r%scratch2)
@@ -273,7 +282,8 @@ contains
       if (.not. moved) return
       call comm_halo_redistribute(r%halo, r%dc, r%p)
       call grid_init(r%g, r%rc%box(1), r%rc%box(2), r%rc%box(3), r%rc%box(4), r%prm%h, &
-                     decomp_lo(r%dc), decomp_hi(r%dc), zmin=r%rc%box(2*ndim - 1), zmax=r%rc%box(2*ndim))
+                     decomp_lo(r%dc), decomp_hi(r%dc), zmin=r%rc%box(2*ndim - 1), zmax=r%rc%box(2*ndim), &
+                     periodic=r%rc%periodic_z)
    end subroutine rebalance
 
    !> The Shepard filter's sums, as large as the particle store (made at its

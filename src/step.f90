@@ -153,7 +153,7 @@ contains
          end if
       end if
       call forces_prepare(prm, p, w)
-      call forces_sweep(prm, g, p, w)
+      call forces_sweep(prm, g, p, w, halo)
       ! the contacts need positions only: here, before the first exchange, the
       ! slab holding the armour does them while the others still sum water pairs
       ! (after it, every rank would wait for that slab)
@@ -162,8 +162,9 @@ contains
          ! the pass before the forces: the sums of the halo copies belong to
          ! the next rank's particles, and what they give is copied back; the
          ! slab's first and last columns waited for these
-         if (prm%kgc == kgc_gradient) call comm_halo_reverse(halo, w%lm, p%n_own)
-         if (prm%visc == visc_laminar_sps) call comm_halo_reverse(halo, w%gv, p%n_own)
+         ! (the sweep gave the images' sums to their originals already)
+         if (prm%kgc == kgc_gradient) call comm_halo_reverse(halo, w%lm, p%n_own, images=.false.)
+         if (prm%visc == visc_laminar_sps) call comm_halo_reverse(halo, w%gv, p%n_own, images=.false.)
          call forces_sweep_first(prm, g, p, w)
          if (prm%kgc == kgc_gradient) call comm_halo_forward(halo, w%lm, p%n_own)
          if (prm%visc == visc_laminar_sps) call comm_halo_forward(halo, w%tau, p%n_own)

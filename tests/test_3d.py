@@ -275,6 +275,186 @@ def test_3d_on_two_ranks_and_a_restart_on_one(kgc: str, tmp_path: Path, mbsph3d:
             assert err <= 1e-10 * scale, f"{what}: {name} differs by {err / scale:.2e} of its scale"
 
 
+# ------------------------------------------------------------------ periodic sides
+
+DB_A = 0.146          # the dam-break column of tests/test_cases.py (m)
+DB_T_MAX = 3.2        # dimensionless end time T = t sqrt(2 g / a)
+FRONT_BAR = 0.02      # the issue's bar: the 3D front within 2 % of the 2D one
+GAUGE_BAR = 0.01      # two gauges across a flow alike at every z: the same level within 0.01 dp
+
+
+def periodic_dambreak_text(dp: float, layers: int, t_end: float, dt_out: float, numerics: dict | None = None,
+                           run: dict | None = None, out_dir: str = "OUT") -> str:
+    """The 2D dam break of tests/test_cases.py as a 3D case `layers` spacings wide with periodic sides."""
+    from conftest import dambreak_text
+    text = dambreak_text(a=DB_A, dp=dp, t_end=t_end, dt_out=dt_out, numerics=numerics, run=run, out_dir=out_dir)
+    width = layers * dp
+    return re.sub(r"(&domain[^/]*)/", lambda m: m.group(1) + f" zmin = 0.0, zmax = {width!r}, periodic_z = .true. /",
+                  text, count=1)
+
+
+@pytest.fixture(scope="module")
+def dam_fronts(tmp_path_factory: pytest.TempPathFactory, mbsph: Path, mbsph3d: Path):
+    """The dam break at dp = a/20 in 2D and in 3D three spacings wide with periodic sides (one cell column)."""
+    from conftest import dambreak_text
+    from post import dambreak
+    dp = DB_A / 20
+    t_end = DB_T_MAX / math.sqrt(2.0 * G / DB_A) + 0.005
+    proc, out2 = run_case(dambreak_text(a=DB_A, dp=dp, t_end=t_end, dt_out=0.01),
+                          tmp_path_factory.mktemp("db2d"), binary=mbsph)
+    assert_ok(proc)
+    # two water-level gauges at x = 0.1 m: beside the side at zmin, whose kernel reaches over
+    # it to the images, and at mid-width
+    gauges = ("&gauge kind = 'elevation', x = 0.1, z = 0.0003 /\n"
+              f"&gauge kind = 'elevation', x = 0.1, z = {1.5 * dp!r} /\n")
+    proc, out3 = run_case(periodic_dambreak_text(dp, 3, t_end, 0.01, run={"gauge_interval": 0.01}) + gauges,
+                          tmp_path_factory.mktemp("db3d"), binary=mbsph3d)
+    assert_ok(proc)
+    return dambreak.compare(out2, DB_A, 0.0, g=G), dambreak.compare(out3, DB_A, 0.0, g=G), out3
+
+
+def test_3d_one_cell_wide_with_periodic_sides_is_the_2d_dam_break(dam_fronts) -> None:
+    """The surge front of the periodic 3D run against the 2D run's, snapshot by snapshot.
+
+    Three spacings across (2.1 h) make one cell column: every pair across the sides goes
+    through the images. The front is read as in 2D (post.dambreak), from T = 0.5, when it
+    has left the column's foot, to T = 3.2, when it has reached the far wall.
+    """
+    r2, r3, out3 = dam_fronts
+    from post.dambreak import front_difference
+    assert np.count_nonzero(r2.T >= 0.5) >= 20
+    rel = front_difference(r3, r2, t_from=0.5)
+    table = "\n".join(f"  T = {t:.3f}: 2D {a:.4f}" for t, a in zip(r2.T, r2.Z_sim))
+    assert rel <= FRONT_BAR, f"3D front off the 2D one by {100 * rel:.2f} %\n{table}\n3D: {r3.Z_sim}"
+    # the flow stays two-dimensional: the layers across move alike (no velocity across)
+    last = read_snapshot(snapshots(out3)[-1])
+    v = last.velocity[last.fluid]
+    assert float(np.max(np.abs(v[:, 2]))) <= 1e-6 * float(np.max(np.abs(v))), "the flow moved across the width"
+    energy = read_csv(out3 / "energy.csv")
+    assert np.all(energy["lost"] == 0), "water left the periodic domain"
+    # across a flow alike at every z, the gauge beside the side reads the mid-width level
+    from post.waves import read_gauges
+    _, _, g = read_gauges(out3)
+    diff = float(np.max(np.abs(g["eta_1"] - g["eta_2"])))
+    assert diff <= GAUGE_BAR * DB_A / 20, f"the gauges beside the side and at mid-width differ by {diff:.2e} m"
+
+
+def test_3d_periodic_on_two_ranks_and_a_restart_on_one(tmp_path: Path, mbsph3d: Path) -> None:
+    # the images of the halo's column and the sweep's gradient correction across the sides:
+    # 200 steps on two ranks give the one-rank answer, and 100 steps on two ranks
+    # restarted on one for 100 more too, within 1e-10 of each field's scale
+    from test_mpi import run
+    dp = DB_A / 15
+
+    def text(steps: int, restart: bool = False) -> str:
+        return periodic_dambreak_text(dp, 6, t_end=1.0, dt_out=1.0, numerics={"kernel_correction": "gradient"},
+                                      run={"max_steps": steps, "restart": restart})
+
+    proc, one = run(text(200), tmp_path / "one", 1, mbsph3d)
+    assert_ok(proc)
+    proc, two = run(text(200), tmp_path / "two", 2, mbsph3d)
+    assert_ok(proc)
+    proc, _ = run(text(100), tmp_path / "swap", 2, mbsph3d)
+    assert_ok(proc)
+    proc, swap = run(text(200, restart=True), tmp_path / "swap", 1, mbsph3d)
+    assert_ok(proc)
+    a = read_snapshot(snapshots(one)[-1])
+    for out, what in ((two, "two ranks"), (swap, "two ranks, restarted on one")):
+        b = read_snapshot(snapshots(out)[-1])
+        assert a.step == b.step == 200
+        np.testing.assert_array_equal(a.id, b.id, err_msg=f"{what}: different particles")
+        for name in ("position", "velocity", "density"):
+            x, y = getattr(a, name), getattr(b, name)
+            scale = float(np.max(np.abs(x)))
+            err = float(np.max(np.abs(x - y)))
+            assert err <= 1e-10 * scale, f"{what}: {name} differs by {err / scale:.2e} of its scale"
+
+
+SLIDE = """&run case_name = 'slide', t_end = 0.3, dt_out = 0.1, energy_interval = 0.005, out_dir = 'OUT' /
+&domain xmin = -0.3, xmax = {xmax}, ymin = -0.1, ymax = 0.3, zmin = 0.0, zmax = 0.2{periodic} /
+&numerics dp = 0.02 /
+&box role = 'solid', xmin = -0.3, xmax = {xmax}, ymin = -0.06, ymax = 0.0 /
+&body shape = 'box', x = 0.0, y = 0.0502, z = {z}, width = 0.1, height = 0.1, depth = 0.1, density = 2400.0,
+      mu = 0.5, {velocity} = 1.0 /
+"""
+
+
+def test_3d_cube_slides_across_a_periodic_side(tmp_path: Path, mbsph3d: Path) -> None:
+    """A concrete cube (five particles across) let go on a floor at 1 m/s across the width,
+    in a strip 0.2 m wide with periodic sides: it crosses the side at zmax and comes in at
+    zmin (its centre too), braked by Coulomb friction (mu = 0.5). While it slides it slows
+    at mu g; it stops where the same cube sliding along x on a floor between side walls
+    does (the periodic side changes nothing; the cube stands on the floor's lattice as it
+    does there, staggered by half a spacing both ways); it neither turns nor sinks."""
+    (tmp_path / "across").mkdir()
+    (tmp_path / "along").mkdir()
+    proc, across = run_case(SLIDE.format(xmax=0.3, periodic=", periodic_z = .true.", z=0.14, velocity="w"),
+                            tmp_path / "across", binary=mbsph3d)
+    assert_ok(proc)
+    proc, along = run_case(SLIDE.format(xmax=0.5, periodic="", z=0.1, velocity="u"), tmp_path / "along",
+                           binary=mbsph3d)
+    assert_ok(proc)
+    a = read_csv(across / "bodies.csv")
+    b = read_csv(along / "bodies.csv")
+    travel_a = a["z"][-1] - a["z"][0]
+    travel_b = b["x"][-1] - b["x"][0]
+    assert a["z"][-1] > 0.2 and abs(a["w"][-1]) < 1e-3, "the cube did not cross the side and stop"
+    assert abs(travel_a - travel_b) <= 1e-6 * travel_b, f"travel {travel_a:.6f} m across, {travel_b:.6f} m along"
+    t = a["time"]
+    sliding = (t > 0.03) & (t < 0.15)     # after the landing (it is let go 0.2 mm high), before the stop
+    decel = -np.polyfit(t[sliding], a["w"][sliding], 1)[0]
+    assert abs(decel - 0.5 * G) <= 0.02 * 0.5 * G, f"deceleration {decel:.3f} m/s2, mu g = {0.5 * G:.3f}"
+    # the landing rocks it by about 1e-3 rad, as along x; at rest it stands square
+    assert abs(float(np.max(a["rotation"])) - float(np.max(b["rotation"]))) <= 1e-6, "it rocked otherwise than along x"
+    assert a["rotation"][-1] < 1e-4, f"the cube stays turned by {a['rotation'][-1]:.2e} rad"
+    assert abs(a["y"][-1] - 0.05) < 0.01 * 0.02, f"the cube rests at y = {a['y'][-1]:.5f} m (0.05 m)"
+
+
+def test_3d_restart_across_a_periodic_side_is_bit_identical(tmp_path: Path, mbsph3d: Path) -> None:
+    # the cube of the slide above, stopped at step 250 while it straddles the side (part of
+    # it wrapped to zmin, its centre still short of zmax) and sliding (slip memory set),
+    # then restarted: it goes on bit for bit
+    def text(steps: int, restart: bool = False) -> str:
+        return SLIDE.format(xmax=0.3, periodic=", periodic_z = .true.", z=0.14, velocity="w").replace(
+            "out_dir = 'OUT'", f"out_dir = 'OUT', max_steps = {steps}, restart = {'.true.' if restart else '.false.'}")
+
+    out_a, out_b = straight_and_restarted(text, tmp_path, mbsph3d, 500)
+    assert read_attrs(snapshots(out_a)[-1])["step"] == 500
+    assert_same_datasets(snapshots(out_a)[-1], snapshots(out_b)[-1])
+    a, b = read_csv(out_a / "bodies.csv"), read_csv(out_b / "bodies.csv")
+    assert a["z"][-1] > 0.2, "the cube's centre did not cross the side"
+    assert np.array_equal(a["z"][-3:], b["z"][-3:]) and np.array_equal(a["fz_friction"][-3:], b["fz_friction"][-3:])
+
+
+@pytest.mark.parametrize("layers, extra, words", [
+    (3.5, "", ("&domain: zmax:", "whole number of spacings")),
+    (2, "", ("&domain: zmax:", "at least the kernel support")),
+    (6, "&body shape = 'box', x = 0.3, y = 0.1, z = 0.03, width = 0.04, height = 0.04, depth = 0.04, "
+        "density = 500.0 /\n", ("&body #1: width, height, depth:", "narrower than the width")),
+])
+def test_3d_refuses_bad_periodic_sides(layers: float, extra: str, words: tuple[str, ...], tmp_path: Path,
+                                       mbsph3d: Path) -> None:
+    dp = DB_A / 15
+    text = periodic_dambreak_text(dp, 1, t_end=0.01, dt_out=0.01)
+    text = re.sub(r"zmax = [-0-9.e]+, periodic_z", f"zmax = {layers * dp!r}, periodic_z", text) + extra
+    proc, out = run_case(text, tmp_path, binary=mbsph3d)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    for word in words:
+        assert word in proc.stderr, proc.stderr
+    assert not out.exists()
+
+
+def test_2d_refuses_periodic_sides(tmp_path: Path, mbsph: Path) -> None:
+    case = ("&run case_name = 'w', t_end = 0.01, dt_out = 0.01, out_dir = 'OUT' /\n"
+            "&domain xmin = 0.0, xmax = 1.0, ymin = 0.0, ymax = 1.0, periodic_z = .true. /\n"
+            "&fluid rho0 = 1000.0 /\n&numerics dp = 0.02 /\n"
+            "&box role = 'fluid', xmin = 0.1, xmax = 0.2, ymin = 0.0, ymax = 0.1 /\n")
+    proc, out = run_case(case, tmp_path, binary=mbsph)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    assert "&domain: periodic_z:" in proc.stderr and "3D build" in proc.stderr, proc.stderr
+    assert not out.exists()
+
+
 # ------------------------------------------------------------------ a floating cube
 
 CUBE = 0.1        # side of the cube (m): ten particles across at dp = 0.01 m

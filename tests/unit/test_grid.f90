@@ -25,6 +25,7 @@ program test_grid
    use kernel, only: kernel_wendland, kernel_cubic, kernel_norm, kernel_gradw, kernel_f
    use nbr_list, only: nbr_t, nbr_build
    use fluid_forces, only: forces_work_t, forces_init, forces_prepare, forces_sweep, forces_sweep_last
+   use comm_halo, only: halo_t
    use testing, only: check, check_close, test_summary, random_seed_fixed
    implicit none
    integer, parameter :: n = 900
@@ -32,6 +33,7 @@ program test_grid
    type(params_t) :: prm
    type(forces_work_t) :: w, ws
    type(nbr_t) :: nb
+   type(halo_t) :: hl                  ! one rank, no periodic sides: no halo, no images
    logical(lk), allocatable :: drop(:)
    real(rp) :: h, r(ndim), d(ndim), gw(ndim), dr, a(ndim), err_d, err_a, scale_d, scale_a, pij, err_f
    real(rp) :: gc(ndim), divr, err_c, err_r, scale_c, scale_r, ext(ndim), mid(ndim), edge(ndim)
@@ -161,13 +163,13 @@ program test_grid
       prm%shift = shift_none
       call forces_init(w, prm)
       call forces_prepare(prm, p, w)
-      call forces_sweep(prm, g, p, w)
+      call forces_sweep(prm, g, p, w, hl)
       call forces_sweep_last(prm, g, p, w)
       prm%shift = shift_fickian
       call forces_init(ws, prm)
       ws%shift_now = .true.             ! the step sets it for the evaluation it shifts by
       call forces_prepare(prm, p, ws)
-      call forces_sweep(prm, g, p, ws)
+      call forces_sweep(prm, g, p, ws, hl)
       call forces_sweep_last(prm, g, p, ws)
       err_d = 0.0_rp; err_a = 0.0_rp; scale_d = 0.0_rp; scale_a = 0.0_rp
       err_c = 0.0_rp; err_r = 0.0_rp; scale_c = 0.0_rp; scale_r = 0.0_rp
