@@ -9,7 +9,8 @@ start of the run).
 
 - A unit is displaced when its final displacement exceeds ``threshold * dn``.
 - ``Nod`` is the number of displaced units per strip one ``dn`` wide across the flume; a
-  2D run is one such strip, so ``Nod`` is the number of displaced units.
+  2D run is one such strip, so ``Nod`` is the number of displaced units; a 3D strip of
+  width B (``width=`` in the header, ``z0`` a column) holds B/dn of them.
 - ``Ns = H / (Delta dn)``, ``Delta = density / rho_water - 1``. ``H`` is given (``--H``),
   measured at a gauge of ``gauges.csv`` (``--gauge k``: the first-harmonic height of a
   regular wave, else ``Hm0``, or ``H_1/3`` with ``--hs h13``), or taken from the ``&wavemaker``
@@ -98,10 +99,17 @@ class ArmourLayer:
     x0: np.ndarray
     y0: np.ndarray
     angle0: np.ndarray
+    z0: np.ndarray | None = None
+    """3D: the units' places across the width (``z0``), else None"""
 
     @property
     def dn(self) -> float:
         return float(self.meta["dn"])
+
+    @property
+    def strips(self) -> float:
+        """Strips one dn wide across the layer: ``width / dn`` in 3D (``width=`` in the header), 1 in 2D."""
+        return float(self.meta["width"]) / self.dn if "width" in self.meta else 1.0
 
     @property
     def threshold(self) -> float:
@@ -135,7 +143,7 @@ def read_armour(path: str | Path) -> ArmourLayer:
     data = np.array(rows, dtype=float).reshape(len(rows), len(names))
     col = {n: data[:, j] for j, n in enumerate(names)}
     return ArmourLayer(meta=meta, unit=col["unit"].astype(int), body=col["body"].astype(int),
-                       x0=col["x0"], y0=col["y0"], angle0=col["angle0"])
+                       x0=col["x0"], y0=col["y0"], angle0=col["angle0"], z0=col.get("z0"))
 
 
 def van_der_meer_cubes_nod(ns: float | np.ndarray, n_waves: float, s_om: float | np.ndarray) -> np.ndarray:
@@ -209,8 +217,8 @@ class ArmourDamage:
 
     @property
     def Nod(self) -> float:
-        """Displaced units per dn-wide strip: in 2D the number displaced."""
-        return float(self.n_displaced)
+        """Displaced units per dn-wide strip: in 2D the number displaced, in 3D that over width/dn."""
+        return float(self.n_displaced) / self.layer.strips
 
     @property
     def delta(self) -> float:
@@ -467,7 +475,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         figdir = run if args.out is None else (args.out if len(args.runs) == 1 else args.out / r.run)
         print(f"{r.run}: {r.units} units, dn {r.layer.dn:g} m, Delta {r.delta:.3f}, H {r.H:.4f} m ({r.H_source}), "
               f"Ns {r.Ns:.3f}; displaced (> {r.layer.threshold:g} dn) {r.n_displaced}, Nod {r.Nod:g}, "
-              f"largest final displacement {np.max(r.final_displacement) / r.layer.dn:.3f} dn")
+              f"largest final displacement {np.max(r.final_displacement) / r.layer.dn:.4f} dn, "
+              f"largest during the run {np.max(r.max_displacement) / r.layer.dn:.4f} dn")
         print(f"wrote {plot_layer(r, figdir / 'armour_layer.png')}")
         print(f"wrote {plot_displacement(r, figdir / 'armour_displacement.png')}")
     if args.table is not None:

@@ -25,7 +25,7 @@ module input
    use options, only: role_fluid, role_filter, model_dynamic, wall_wavemaker, wave_regular, wave_file, paddle_piston, &
                       gauge_pressure, &
                       integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, bnd_mdbc, visc_laminar_sps, shift_none, &
-                      bnd_dynamic
+                      bnd_dynamic, core_porous
    implicit none
    private
    public :: case_cfg, read_case, write_case
@@ -73,8 +73,8 @@ contains
       if (ndim == 3) where (z_left_out(c%gauges%z)) c%gauges%z = 0.5_rp*(c%domain%zmin + c%domain%zmax)
       call read_damping(file, c%damping)
       call read_porous(file, c%numerics%h_over_dp*c%numerics%dp, c%porous)
-      call expand_flume(c)
       if (ndim == 3) call refuse_in_3d(c)
+      call expand_flume(c)
 
       tol = 1.0e-9_rp*max(abs(c%domain%xmax - c%domain%xmin), abs(c%domain%ymax - c%domain%ymin))
       do i = 1, size(c%objs)
@@ -250,7 +250,7 @@ contains
          call append_objects(c%objs, more)
       end if
       if (c%armour%on) then
-         call armour_units(c%file, c%breakwater, c%armour, units, c%layer)
+         call armour_units(c%file, c%breakwater, c%armour, [c%domain%zmin, c%domain%zmax], units, c%layer)
          c%layer%first = c%layer%first + size(c%bodies)
          c%bodies = [c%bodies, units]
       end if
@@ -487,8 +487,11 @@ contains
       type(case_cfg), intent(in) :: c
       character(len=*), parameter :: later = 'not yet in the 3D build (doc/3d.md lists what is); '// &
                                              'the 2D build (build/mbsph) has it'
-      if (c%breakwater%on) call input_error(c%file, 'breakwater', '', 'the breakwater builder is '//later)
-      if (c%armour%on) call input_error(c%file, 'armour', '', 'an armour layer is '//later)
+      ! the breakwater is a strip of an infinitely long one: no side walls are built
+      if (c%breakwater%on .and. .not. c%domain%periodic_z) call input_error(c%file, 'breakwater', '', &
+         'in the 3D build the breakwater is a strip with periodic sides: set &domain periodic_z = .true.')
+      if (c%breakwater%on .and. c%breakwater%core_id == core_porous) call input_error(c%file, 'breakwater', 'core', &
+         'a porous core is '//later)
       if (size(c%porous) > 0) call input_error(c%file, 'porous #1', '', 'porous regions are '//later)
       if (c%numerics%boundary_id /= bnd_dynamic) call input_error(c%file, 'numerics', 'boundary', &
                                                                    "only 'dynamic' is in the 3D build yet: "//later)

@@ -3,7 +3,7 @@
 !> slope). Both are expanded into geometry objects and bodies by scene_flume.
 module input_breakwater
    use kinds, only: rp
-   use constants, only: name_len, msg_len
+   use constants, only: name_len, msg_len, ndim
    use input_check, only: open_case, read_failed, check_real, check_int, group_count
    use errors, only: input_error
    use options, only: option_index, placement_names, placement_regular, core_names, core_impermeable, core_porous
@@ -47,6 +47,7 @@ module input_breakwater
       integer :: n_units = 0                !< units (0: as many as fit from the toe to the crest)
       real(rp) :: threshold = 1.0_rp        !< a unit is displaced beyond threshold*dn [-]
       logical :: toe_block = .true.         !< a fixed unit at the toe holds the layer
+      integer :: n_across = 0               !< 3D: rows side by side across the width (0: equal gaps both ways)
    end type armour_cfg
 
    real(rp) :: x_start, depth, toe_depth, flat_length, foreshore_angle, slope_cot, rc, crest_width, rear_cot
@@ -57,9 +58,10 @@ module input_breakwater
       rear_cot, layers, core, core_porosity, core_d50, underlayer_porosity, underlayer_d50, underlayer_thickness
    character(len=name_len) :: placement
    real(rp) :: dn, density, porosity, mu, max_tilt, gap_spread, threshold
-   integer :: seed, n_units
+   integer :: seed, n_units, n_across
    logical :: toe_block
-   namelist /armour/ placement, dn, density, porosity, mu, seed, max_tilt, gap_spread, n_units, threshold, toe_block
+   namelist /armour/ placement, dn, density, porosity, mu, seed, max_tilt, gap_spread, n_units, threshold, toe_block, &
+      n_across
 
 contains
 
@@ -141,7 +143,7 @@ contains
       type(armour_cfg), intent(in) :: c
       placement = c%placement; dn = c%dn; density = c%density; porosity = c%porosity; mu = c%mu
       seed = c%seed; max_tilt = c%max_tilt; gap_spread = c%gap_spread; n_units = c%n_units
-      threshold = c%threshold; toe_block = c%toe_block
+      threshold = c%threshold; toe_block = c%toe_block; n_across = c%n_across
    end subroutine ar_to_vars
 
    subroutine read_armour(file, dp, c)
@@ -164,7 +166,7 @@ contains
       c%on = .true.
       c%placement = placement; c%dn = dn; c%density = density; c%porosity = porosity; c%mu = mu
       c%seed = seed; c%max_tilt = max_tilt; c%gap_spread = gap_spread; c%n_units = n_units
-      c%threshold = threshold; c%toe_block = toe_block
+      c%threshold = threshold; c%toe_block = toe_block; c%n_across = n_across
       c%placement_id = option_index(file, g, 'placement', c%placement, placement_names)
       c%placement = placement_names(c%placement_id)
       call check_real(file, g, 'dn', c%dn, 3.0_rp*dp, 100.0_rp)
@@ -177,6 +179,9 @@ contains
       call check_real(file, g, 'gap_spread', c%gap_spread, 0.0_rp, 1.0_rp)
       call check_int(file, g, 'n_units', c%n_units, 0, 100000)
       call check_real(file, g, 'threshold', c%threshold, 0.0_rp, 100.0_rp, lo_open=.true.)
+      call check_int(file, g, 'n_across', c%n_across, 0, 100000)
+      if (ndim == 2 .and. c%n_across /= 0) call input_error(file, g, 'n_across', &
+         'rows across the width are for the 3D build (build/mbsph3d); leave it out in 2D')
    end subroutine read_armour
 
    subroutine write_armour(u, c)

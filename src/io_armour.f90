@@ -3,7 +3,7 @@
 !> body number and starting pose. post/armour.py reads it with bodies.csv.
 module io_armour
    use kinds, only: rp
-   use constants, only: msg_len
+   use constants, only: msg_len, ndim
    use errors, only: fatal
    implicit none
    private
@@ -12,7 +12,7 @@ module io_armour
 contains
 
    !> header: the parameters of the layer, 'key=value' separated by commas
-   !> (scene_flume: armour_csv_header); pose(:, k): x, y, angle of unit k at the
+   !> (scene_flume: armour_csv_header); pose(:, k): x, y, (z in 3D,) angle of unit k at the
    !> start; its body number is first + k - 1, the one of bodies.csv.
    subroutine armour_csv_write(out_dir, header, first, pose)
       character(len=*), intent(in) :: out_dir, header
@@ -23,9 +23,13 @@ contains
       open (newunit=u, file=trim(out_dir)//'/armour.csv', status='replace', action='write', iostat=ios, iomsg=msg)
       if (ios /= 0) call fatal('cannot write '//trim(out_dir)//'/armour.csv: '//trim(msg))
       write (u, '(a)') '# '//header
-      write (u, '(a)') 'unit,body,x0,y0,angle0'
+      if (ndim == 2) then
+         write (u, '(a)') 'unit,body,x0,y0,angle0'
+      else
+         write (u, '(a)') 'unit,body,x0,y0,z0,angle0'
+      end if
       do k = 1, size(pose, 2)
-         write (u, '(i0,",",i0,3(",",es23.15e3))') k, first + k - 1, pose(:, k)
+         write (u, '(i0,",",i0,*(:,",",es23.15e3))') k, first + k - 1, pose(:, k)
       end do
       close (u)
    end subroutine armour_csv_write

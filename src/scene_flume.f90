@@ -4,7 +4,7 @@
 !> so the rest of the code treats them as any other object or body.
 module scene_flume
    use kinds, only: rp
-   use constants, only: pi, name_len
+   use constants, only: pi, name_len, ndim
    use input_geometry, only: geom_object
    use input_body, only: body_cfg
    use input_wave, only: wavemaker_cfg
@@ -29,7 +29,8 @@ module scene_flume
       integer :: first = 0                 !< index in the case's bodies of the first unit
       real(rp) :: porosity = 0.0_rp        !< achieved [-]
       real(rp) :: alpha = 0.0_rp           !< slope angle [rad]
-      real(rp), allocatable :: pose(:, :)  !< (3, n_units): x [m], y [m], angle [deg] at the start
+      real(rp) :: width = 0.0_rp           !< the width across the layer (3D) [m]
+      real(rp), allocatable :: pose(:, :)  !< (ndim + 1, n_units): x [m], y [m], (z [m],) angle [deg] at the start
    end type armour_layer_t
 
    !> A row of units along the slope while it is being laid out.
@@ -267,30 +268,124 @@ contains
    !> above the slope from the toe unit to the end of the last unit.
    !> Regular: equal gaps, no tilt. Irregular: gaps and tilts drawn from the
    !> seed, gaps scaled so the measured porosity meets the target.
-   subroutine armour_units(file, bw, ar, bodies, layer)
+   !> In 3D the layer is ncol such rows side by side across the width zdom,
+   !> one every pitch = width/ncol: the rows along the slope take the
+   !> porosity that gives the layer its target with the gaps across, each
+   !> irregular row its own draws, its units shifted across at random within
+   !> the gap (gap_spread of it).
+   subroutine armour_units(file, bw, ar, zdom, bodies, layer)
       character(len=*), intent(in) :: file
       type(breakwater_cfg), intent(in) :: bw
       type(armour_cfg), intent(in) :: ar
+      real(rp), intent(in) :: zdom(2)           !< the width across (3D)
       type(body_cfg), allocatable, intent(out) :: bodies(:)
       type(armour_layer_t), intent(out) :: layer
-      real(rp) :: x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c, s_max, t(2), nrm(2), p0(2)
+      real(rp) :: x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c, s_max, t(2), nrm(2), p0(2), pitch, target, zc, &
+                  por_sum
       type(row_t) :: r
-      integer :: ncap, n, i, k
-      character(len=*), parameter :: g = 'armour'
-      integer :: ist
-      character(len=200) :: emsg
+      type(body_cfg), allocatable :: units(:), toes(:)
+      integer :: n, k, j, ncol, zstate, m
       call breakwater_levels(bw, x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c)
       layer%alpha = atan(1.0_rp/bw%slope_cot)
       t = [cos(layer%alpha), sin(layer%alpha)]
       nrm = [-t(2), t(1)]
       p0 = [x_toe, y_toe]
       s_max = (y_c - y_toe)/sin(layer%alpha)
+      ncol = 1
+      pitch = 0.0_rp
+      target = ar%porosity
+      if (ndim == 3) call columns_across(file, ar, zdom, ncol, pitch, target)
+      allocate (units(0), toes(0))
+      por_sum = 0.0_rp
+      do j = 1, ncol
+         call fit_row(file, ar, target, s_max, ar%seed + (j - 1)*7919, r, n)
+         if (n > 1) por_sum = por_sum + row_porosity(r, n)
+         zc = zdom(1) + (j - 0.5_rp)*pitch
+         zstate = ar%seed + 104729*j
+         if (ar%toe_block) then
+            toes = [toes, unit_cfg(ar, p0, t, nrm, layer%alpha, 0.5_rp*ar%dn, 0.0_rp)]
+            m = size(toes)
+            toes(m)%motion = 'fixed'
+            toes(m)%motion_id = motion_fixed
+            if (ndim == 3) call across(toes(m), zc)
+         end if
+         do k = 1, n
+            units = [units, unit_cfg(ar, p0, t, nrm, layer%alpha, r%sc(k), r%tilt(k))]
+            if (ndim == 3) then
+               if (ar%placement_id == placement_irregular) then
+                  call across(units(size(units)), zc + (2.0_rp*uniform(zstate) - 1.0_rp)*0.5_rp*(pitch - ar%dn)* &
+                              ar%gap_spread)
+               else
+                  call across(units(size(units)), zc)
+               end if
+            end if
+         end do
+      end do
+      n = size(units)
+      layer%n_units = n
+      layer%porosity = por_sum/ncol
+      if (ndim == 3) layer%porosity = 1.0_rp - (1.0_rp - layer%porosity)*ar%dn/pitch
+      layer%width = zdom(2) - zdom(1)
+      bodies = [toes, units]
+      layer%first = size(toes) + 1       ! relative to these bodies; the caller shifts it
+      allocate (layer%pose(ndim + 1, n))
+      do k = 1, n
+         layer%pose(1:2, k) = [units(k)%x, units(k)%y]
+         if (ndim == 3) layer%pose(3, k) = units(k)%z
+         layer%pose(ndim + 1, k) = units(k)%angle
+      end do
+   contains
+      !> Unit b across the width: a cube centred at z.
+      subroutine across(b, z)
+         type(body_cfg), intent(inout) :: b
+         real(rp), intent(in) :: z
+         b%z = z
+         b%depth = ar%dn
+      end subroutine across
+   end subroutine armour_units
+
+   !> 3D: the rows across the width, their pitch and the porosity a row along
+   !> the slope must have for the layer to reach its target: the units take dn
+   !> of each pitch across. ncol: n_across, or by default as many as give equal
+   !> gaps along and across, (dn/(dn + gap))^2 = 1 - porosity.
+   subroutine columns_across(file, ar, zdom, ncol, pitch, target)
+      character(len=*), intent(in) :: file
+      type(armour_cfg), intent(in) :: ar
+      real(rp), intent(in) :: zdom(2)
+      integer, intent(out) :: ncol
+      real(rp), intent(out) :: pitch, target
+      real(rp) :: width
+      width = zdom(2) - zdom(1)
+      ncol = ar%n_across
+      if (ncol == 0) ncol = max(1, nint(width*sqrt(1.0_rp - ar%porosity)/ar%dn))
+      pitch = width/ncol
+      if (pitch < ar%dn) call input_error(file, 'armour', 'n_across', int_str(ncol)//' units of side '// &
+         real_str(ar%dn)//' m do not fit across the width '//real_str(width)//' m: at most '// &
+         int_str(floor(width/ar%dn)))
+      target = 1.0_rp - (1.0_rp - ar%porosity)*pitch/ar%dn
+      if (target < 0.0_rp .or. target > 0.6_rp) call input_error(file, 'armour', 'n_across', 'with '// &
+         int_str(ncol)//' units across the width '//real_str(width)//' m the rows along the slope would need '// &
+         'porosity '//real_str(target)//' (from 0 to 0.6) to give the layer '//real_str(ar%porosity)// &
+         ': choose about '//int_str(max(1, nint(width*sqrt(1.0_rp - ar%porosity)/ar%dn)))//' units across')
+   end subroutine columns_across
+
+   !> One row along the slope: the draws of the seed, the most units that fit
+   !> below the crest at the target porosity (or n_units), their places.
+   subroutine fit_row(file, ar, target, s_max, seed, r, n)
+      character(len=*), intent(in) :: file
+      type(armour_cfg), intent(in) :: ar
+      real(rp), intent(in) :: target, s_max
+      integer, intent(in) :: seed
+      type(row_t), intent(out) :: r
+      integer, intent(out) :: n
+      integer :: ncap, k
+      real(rp) :: por
+      character(len=*), parameter :: g = 'armour'
       r%dn = ar%dn
-      r%target = ar%porosity
+      r%target = target
       r%s0 = merge(ar%dn, 0.0_rp, ar%toe_block)
       ncap = max(0, floor((s_max - r%s0)/ar%dn))
-      call draw_units(ar, ncap, r)
-      ! the most units whose layer, at the target porosity, fits below the crest
+      call draw_units(ar, seed, ncap, r)
       n = 0
       fit: do k = ncap, 1, -1
          call solve_gaps(r, k)
@@ -302,39 +397,24 @@ contains
       if (n < 1) call input_error(file, g, 'dn', 'no unit of side '//real_str(ar%dn)// &
          ' m fits on the front slope (length '//real_str(s_max)//' m from the toe to the crest)')
       if (ar%n_units > n) call input_error(file, g, 'n_units', 'at most '//int_str(n)//' units of side '// &
-         real_str(ar%dn)//' m fit on the front slope at porosity '//real_str(ar%porosity)//' (got '// &
+         real_str(ar%dn)//' m fit on the front slope at porosity '//real_str(target)//' (got '// &
          int_str(ar%n_units)//')')
       if (ar%n_units > 0) then
          n = ar%n_units
          call solve_gaps(r, n)
       end if
-      layer%n_units = n
-      layer%porosity = 0.0_rp
-      if (n > 1) layer%porosity = row_porosity(r, n)
-      if (n > 1 .and. abs(layer%porosity - ar%porosity) > 0.02_rp) call input_error(file, g, 'porosity', &
-         'the layer cannot reach porosity '//real_str(ar%porosity)//' with these tilts (reached '// &
-         real_str(layer%porosity)//')')
-      i = merge(1, 0, ar%toe_block)
-      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (bodies(n + i), layer%pose(3, n), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'bodies, layer%pose in armour_units')
-      if (ar%toe_block) then
-         bodies(1) = unit_cfg(ar, p0, t, nrm, layer%alpha, 0.5_rp*ar%dn, 0.0_rp)
-         bodies(1)%motion = 'fixed'
-         bodies(1)%motion_id = motion_fixed
+      if (n > 1) then
+         por = row_porosity(r, n)
+         if (abs(por - target) > 0.02_rp) call input_error(file, g, 'porosity', &
+            'the layer cannot reach porosity '//real_str(target)//' with these tilts (reached '//real_str(por)//')')
       end if
-      do k = 1, n
-         bodies(i + k) = unit_cfg(ar, p0, t, nrm, layer%alpha, r%sc(k), r%tilt(k))
-         layer%pose(:, k) = [bodies(i + k)%x, bodies(i + k)%y, bodies(i + k)%angle]
-      end do
-      layer%first = i + 1       ! relative to these bodies; the caller shifts it
-   end subroutine armour_units
+   end subroutine fit_row
 
    !> Tilts and gap weights of up to ncap units, from the seed; the draws do
    !> not depend on how many units fit, so a longer slope extends the same row.
-   subroutine draw_units(ar, ncap, r)
+   subroutine draw_units(ar, seed, ncap, r)
       type(armour_cfg), intent(in) :: ar
-      integer, intent(in) :: ncap
+      integer, intent(in) :: seed, ncap
       type(row_t), intent(inout) :: r
       integer :: i, state
       integer :: ist
@@ -344,7 +424,7 @@ contains
       call alloc_check(ist, emsg, 'r%tilt, r%wgt in draw_units')
       r%tilt = 0.0_rp
       r%wgt = 1.0_rp
-      state = ar%seed
+      state = seed
       if (ar%placement_id == placement_irregular) then
          do i = 1, ncap
             r%tilt(i) = (2.0_rp*uniform(state) - 1.0_rp)*ar%max_tilt*deg
@@ -619,5 +699,7 @@ contains
          a%density, rho_water, trim(a%placement), a%porosity, layer%porosity, a%threshold, layer%alpha*180.0_rp/pi, &
          a%seed
       line = trim(buf)
+      ! 3D: the width of the strip, for Nod per dn of width
+      if (ndim == 3) line = line//',width='//trim(real_str(layer%width))
    end function armour_csv_header
 end module scene_flume

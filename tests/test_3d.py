@@ -455,6 +455,84 @@ def test_2d_refuses_periodic_sides(tmp_path: Path, mbsph: Path) -> None:
     assert not out.exists()
 
 
+# ------------------------------------------------------------------ the breakwater strip
+
+STRIP = """&run case_name = 'strip', t_end = 0.001, dt_out = 0.001, out_dir = 'OUT', max_steps = 1 /
+&domain xmin = 0.0, xmax = 1.55, ymin = -0.04, ymax = 0.5, zmin = 0.0, zmax = {width}{periodic} /
+&fluid rho0 = 1000.0 /
+&numerics dp = 0.01 /
+&breakwater x_start = 0.05, depth = 0.25, toe_depth = 0.2, flat_length = 0.2, foreshore_angle = 10.0,
+  slope_cot = 1.5, rc = 0.08, crest_width = 0.12, rear_cot = 1.5{core} /
+&armour placement = '{placement}', dn = 0.04, density = 2400.0, seed = 7{armour} /
+"""
+
+
+def strip_text(width: float = 0.18, placement: str = "regular", periodic: bool = True, core: str = "",
+               armour: str = "") -> str:
+    return STRIP.format(width=width, periodic=", periodic_z = .true." if periodic else "", core=core,
+                        placement=placement, armour=armour)
+
+
+@pytest.mark.parametrize("placement", ["regular", "irregular"])
+def test_3d_armour_layer_across_the_width(placement: str, tmp_path: Path, mbsph3d: Path) -> None:
+    """The armour builder lays rows along the slope side by side across a strip 0.18 m wide
+    with periodic sides: by default as many rows as give equal gaps both ways (4 here,
+    one every 0.045 m), the layer's porosity at its target (0.21 regular, 0.25 irregular)
+    within 0.02 as in 2D, no two units overlapping, each irregular row drawn on its own
+    and its units shifted across within the gap; armour.csv holds z0 and the width, so
+    that Nod counts displaced units per dn of width."""
+    from post.armour import read_armour
+    proc, out = run_case(strip_text(placement=placement), tmp_path, binary=mbsph3d)
+    assert_ok(proc)
+    layer = read_armour(out)
+    target = 0.21 if placement == "regular" else 0.25
+    assert abs(layer.meta["porosity"] - target) <= 0.02, layer.meta
+    assert layer.strips == pytest.approx(0.18 / 0.04)
+    assert layer.z0 is not None
+    pitch = 0.045
+    column = np.floor(layer.z0 / pitch).astype(int)
+    assert sorted(set(column)) == [0, 1, 2, 3]
+    counts = [int(np.sum(column == k)) for k in range(4)]
+    assert min(counts) >= 5, counts
+    # within its slot across: regular on its middle, irregular within the gap's play
+    off = layer.z0 - (column + 0.5) * pitch
+    if placement == "regular":
+        assert np.max(np.abs(off)) < 1e-12
+    else:
+        assert np.max(np.abs(off)) <= 0.5 * (pitch - 0.04) + 1e-12 and np.std(off) > 1e-4
+        # the rows differ: their first units sit at different places along the slope or tilts
+        firsts = [np.argmin(np.where(column == k, layer.y0, np.inf)) for k in range(4)]
+        assert len({round(float(layer.angle0[i]), 9) for i in firsts}) > 1
+    # no two units of neighbouring slots overlap: across, their spans are dn wide in slots 0.045 apart
+    for k in range(4):
+        a = layer.z0[column == k]
+        b = layer.z0[column == (k + 1) % 4] + (pitch * 4 if k == 3 else 0.0)
+        assert np.min(b) - np.max(a) >= 0.04 - 1e-12
+
+
+@pytest.mark.parametrize("edit, where, words", [
+    (dict(periodic=False), "&breakwater:", ("periodic sides",)),
+    (dict(core=", core = 'porous'"), "&breakwater: core:", ("not yet in the 3D build",)),
+    (dict(armour=", n_across = 5"), "&armour: n_across:", ("do not fit across",)),
+    (dict(armour=", n_across = 2"), "&armour: n_across:", ("would need porosity",)),
+])
+def test_3d_refuses_a_strip_it_cannot_build(edit: dict, where: str, words: tuple[str, ...], tmp_path: Path,
+                                            mbsph3d: Path) -> None:
+    proc, out = run_case(strip_text(**edit), tmp_path, binary=mbsph3d)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    assert where in proc.stderr, proc.stderr
+    for word in words:
+        assert word in proc.stderr, proc.stderr
+    assert not out.exists()
+
+
+def test_2d_refuses_rows_across(tmp_path: Path, mbsph: Path) -> None:
+    text = re.sub(r", zmin = 0.0, zmax = [0-9.]+, periodic_z = .true.", "", strip_text(armour=", n_across = 4"))
+    proc, out = run_case(text, tmp_path, binary=mbsph)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    assert "&armour: n_across:" in proc.stderr and "3D build" in proc.stderr, proc.stderr
+
+
 # ------------------------------------------------------------------ a floating cube
 
 CUBE = 0.1        # side of the cube (m): ten particles across at dp = 0.01 m
