@@ -99,7 +99,7 @@ contains
       type(particles_t), intent(in) :: p
       type(body_t), intent(in) :: bodies(:)
       integer :: m, i, j, bi, bj, k, c, napp(0:size(bodies))
-      real(rp) :: d(ndim), r2, overlap, n(ndim), w, un, kn, dmax, dt1(0:size(bodies))
+      real(rp) :: d(ndim), r2, overlap, n(ndim), w, un, kn, dmax, dt_pair, dt1(0:size(bodies))
       napp = 0
       dt1 = huge(1.0_rp)
       do m = 1, ct%nc
@@ -116,11 +116,12 @@ contains
          if (un < 0.0_rp) then
             kn = hertz_stiffness(bodies, bi, bj, prm%dp)
             dmax = (1.25_rp*body_mass(bodies, bi, bj)*un*un/kn)**0.4_rp
-            ct%dt_limit = min(ct%dt_limit, 2.94_rp*dmax/(40.0_rp*abs(un)))
+            dt_pair = 2.94_rp*dmax/(40.0_rp*abs(un))
+            ct%dt_limit = min(ct%dt_limit, dt_pair)
             if (r2 < (1.5_rp*prm%dp)**2) then
                ! about to touch: counted for each of its two bodies
                napp([bi, bj]) = napp([bi, bj]) + 1
-               dt1([bi, bj]) = min(dt1([bi, bj]), 2.94_rp*dmax/(40.0_rp*abs(un)))
+               dt1([bi, bj]) = min(dt1([bi, bj]), dt_pair)
             end if
          end if
          overlap = prm%dp - sqrt(r2)
