@@ -202,25 +202,24 @@ contains
       type(particles_t), intent(inout) :: p
       integer, parameter :: nv = 2*ndim + 1     ! position, velocity, density
       integer :: i, k
-      if (comm_size() == 1) then
-         call comm_halo_refresh_images(h, p)
-         return
+      if (comm_size() > 1) then
+         call timer_start(t_comm)
+         call ensure(h%sbuf, max(h%n_send, 1)*nv)
+         call ensure(h%rbuf, max(h%n_recv, 1)*nv)
+         do i = 1, h%n_send
+            k = (i - 1)*nv
+            h%sbuf(k + 1:k + nv) = [p%x(:, i), p%v(:, i), p%rho(i)]
+         end do
+         call comm_sendrecv(h%sbuf, h%n_send*nv, left(), h%rbuf, h%n_recv*nv, right())
+         do i = 1, h%n_recv
+            k = (i - 1)*nv
+            p%x(:, p%n_own + i) = h%rbuf(k + 1:k + ndim)
+            p%v(:, p%n_own + i) = h%rbuf(k + ndim + 1:k + 2*ndim)
+            p%rho(p%n_own + i) = h%rbuf(k + nv)
+         end do
+         call timer_stop(t_comm)
       end if
-      call timer_start(t_comm)
-      call ensure(h%sbuf, max(h%n_send, 1)*nv)
-      call ensure(h%rbuf, max(h%n_recv, 1)*nv)
-      do i = 1, h%n_send
-         k = (i - 1)*nv
-         h%sbuf(k + 1:k + nv) = [p%x(:, i), p%v(:, i), p%rho(i)]
-      end do
-      call comm_sendrecv(h%sbuf, h%n_send*nv, left(), h%rbuf, h%n_recv*nv, right())
-      do i = 1, h%n_recv
-         k = (i - 1)*nv
-         p%x(:, p%n_own + i) = h%rbuf(k + 1:k + ndim)
-         p%v(:, p%n_own + i) = h%rbuf(k + ndim + 1:k + 2*ndim)
-         p%rho(p%n_own + i) = h%rbuf(k + nv)
-      end do
-      call timer_stop(t_comm)
+      ! the images after the halo: theirs may be copies of halo particles
       call comm_halo_refresh_images(h, p)
    end subroutine comm_halo_refresh
 
