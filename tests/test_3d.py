@@ -848,6 +848,9 @@ def test_3d_piston_makes_the_2d_wave(tmp_path: Path, mbsph: Path, mbsph3d: Path)
     p3 = regular_wave_height(t3, c3["p_2"], 1.0, t_start=2.0)
     p2 = regular_wave_height(t2, c2["p_2"], 1.0, t_start=2.0)
     assert abs(p3.H / p2.H - 1.0) <= 0.03, f"pressure swing {p3.H:.1f} Pa in 3D, {p2.H:.1f} Pa in 2D"
+    # the figures of doc/3d.md (pytest -s shows them)
+    print(f"periodic 3D against 2D: height {1e3 * w3.H:.2f} mm ({100 * (w3.H / w2.H - 1):+.1f} %), period "
+          f"{w3.T_fit:.3f} s, phase {lag:+.1f} deg, pressure swing {p3.H:.1f} Pa against {p2.H:.1f} Pa")
     # no water lost through the paddle's sides or over the walls
     assert np.all(read_csv(out3 / "energy.csv")["lost"] == 0)
 
