@@ -54,6 +54,7 @@ module body_dynamics
       type(pose_t) :: pose0
       real(rp) :: v0(ndim) = 0.0_rp, omega0(nrot) = 0.0_rp
       real(rp), allocatable :: outline(:, :)  !< outline in the particle frame (centre at 0)
+      real(rp) :: zhalf = 0.0_rp            !< 3D: half its depth across the width (the outline's extrusion) [m]
    end type body_t
 
    !> damping matrix of the velocity-proportional contact forces on the

@@ -493,8 +493,7 @@ contains
       if (c%breakwater%on .and. c%breakwater%core_id == core_porous) call input_error(c%file, 'breakwater', 'core', &
          'a porous core is '//later)
       if (size(c%porous) > 0) call input_error(c%file, 'porous #1', '', 'porous regions are '//later)
-      if (c%numerics%boundary_id /= bnd_dynamic) call input_error(c%file, 'numerics', 'boundary', &
-                                                                   "only 'dynamic' is in the 3D build yet: "//later)
-      if (c%numerics%shift_id /= shift_none) call input_error(c%file, 'numerics', 'shifting', 'shifting is '//later)
+      if (c%numerics%boundary_id == bnd_repulsive) call input_error(c%file, 'numerics', 'boundary', &
+                                                                   "'repulsive' is "//later)
    end subroutine refuse_in_3d
 end module input

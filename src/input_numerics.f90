@@ -1,7 +1,7 @@
 !> &numerics: resolution, kernel, time stepping and the optional models.
 module input_numerics
    use kinds, only: rp
-   use constants, only: name_len, msg_len
+   use constants, only: name_len, msg_len, ndim
    use input_check, only: open_case, read_failed, check_real, check_int, group_count
    use options, only: option_index, kernel_names, integ_names, visc_names, bnd_names, diff_names, kgc_names, &
                       kernel_wendland, integ_symplectic, visc_artificial, bnd_dynamic, bnd_repulsive, diff_none, &
@@ -34,7 +34,9 @@ module input_numerics
       character(len=name_len) :: mdbc_slip = 'wall'      !< mDBC: velocity of the solid particles: 'wall' | 'noslip' | 'freeslip'
       character(len=name_len) :: shifting = 'none'       !< particle shifting: 'none' | 'fickian'
       real(rp) :: shift_coef = 2.0_rp                    !< shifting: A of D = A h |v| dt [-]
-      real(rp) :: shift_tfs = 1.9_rp                     !< shifting: div r below it: the surface band, not shifted [-]
+      !> shifting: div r below it: the surface band, not shifted [-]; 0.95 of its value inside
+      !> the water (ndim), the same band in 2D and 3D
+      real(rp) :: shift_tfs = merge(1.9_rp, 2.85_rp, ndim == 2)
       ! the choices as their values in options, set where they are read
       integer :: kernel_id = kernel_wendland, integrator_id = integ_symplectic, viscosity_id = visc_artificial
       integer :: diffusion_id = diff_fourtakas, kgc_id = kgc_none, boundary_id = bnd_dynamic, slip_id = slip_wall

@@ -204,6 +204,7 @@ contains
       b%m_surf = b%mass/max(count(surf > 0), 1)
       b%rbound = maxval(norm2(xb, dim=1)) + 0.5_rp*dp
       b%outline = body_outline(bc)
+      if (ndim == 3) b%zhalf = 0.5_rp*bc%depth
       do k = 1, size(b%outline, 2)
          b%outline(:, k) = b%outline(:, k) - b%pose%c(1:nsec)
       end do

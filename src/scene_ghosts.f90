@@ -2,7 +2,7 @@
 !> solid particle within 2h of a face the water can touch, the offset gof
 !> from the particle to its mirror across that face (twice the way to the
 !> nearest point of the face). The faces of fixed and moving walls are the
-!> stretches of the solids' edges with no other solid and no domain edge
+!> parts of the solids' surfaces with no other solid and no domain edge
 !> beyond them; of those, a particle takes the nearest that looks towards
 !> the water (its outward normal towards the fluid particle nearest to the
 !> particle), so that the middle row of a wall with free space behind it
@@ -11,10 +11,22 @@
 !> A body's particles mirror across its own outline. Particles farther
 !> than 2h from every face, and the particles of filters (massless to the
 !> water), get no ghost point (gof = 0).
+!>
+!> In 3D a solid is its section's outline extruded over its z range. Its
+!> surface is the outline's edges extruded (side faces) and two end faces,
+!> the outline at either end of the z range. The side faces are found in
+!> slabs across the width between the z ends of all solids, each slab with
+!> the solids that span it, as the 2D faces are; an end face strictly inside
+!> the domain's width is open where no solid lies just beyond it, and its
+!> open part is a plane region whose edges (stretches of the outline's and
+!> of the solids' beyond) are faces of their own, so that the nearest point
+!> of the open part is the point straight across (when it is open) or the
+!> nearest of those edges.
 module scene_ghosts
    use kinds, only: rp
-   use constants, only: kind_fluid, kind_filter
+   use constants, only: kind_fluid, kind_filter, ndim, nsec
    use input, only: case_cfg
+   use input_geometry, only: geom_zrange
    use options, only: role_solid
    use particles, only: particles_t
    use body_dynamics, only: body_t
@@ -25,17 +37,32 @@ module scene_ghosts
    private
    public :: scene_ghost_offsets
 
-   !> a stretch of a solid's edge that the water can touch, and its outward normal
+   !> A part of a solid's surface that the water can touch, with its outward
+   !> normal n: in the section the stretch a-b of an edge, across the width
+   !> (3D) from z0 to z1 (a side face; z0 = z1 on an edge of an end face's open
+   !> part); or, cap > 0, the plane z = z0 of an end face of objs(cap), where
+   !> it is open.
    type :: face_t
-      real(rp) :: a(2), b(2), n(2)
+      real(rp) :: a(nsec) = 0.0_rp, b(nsec) = 0.0_rp, z0 = 0.0_rp, z1 = 0.0_rp, n(ndim) = 0.0_rp
+      integer :: cap = 0
    end type face_t
 
-   !> The fluid particles binned in square cells, for the nearest one to a
-   !> point: cell (ix, iy) holds idx(start(c) : start(c + 1) - 1), c = ix +
-   !> (iy - 1) nx, in increasing particle order.
+   !> Where a point of the section counts as open: across the width at z
+   !> (3D), the solids that span z are looked for; own > 0: the point must
+   !> also lie in objs(own)'s outline (the open part of its end face), and
+   !> that solid itself does not count.
+   type :: probe_t
+      real(rp) :: z = 0.0_rp
+      integer :: own = 0
+   end type probe_t
+
+   !> The fluid particles binned in cubic cells, for the nearest one to a
+   !> point: cell i (its indices ix(d) along each axis d, i = 1 + sum (ix(d) -
+   !> 1) stride(d)) holds idx(start(i) : start(i + 1) - 1), in increasing
+   !> particle order.
    type :: bins_t
-      real(rp) :: x0(2) = 0.0_rp, cs = 1.0_rp
-      integer :: nx = 0, ny = 0
+      real(rp) :: x0(ndim) = 0.0_rp, cs = 1.0_rp
+      integer :: nc(ndim) = 0, stride(ndim) = 0
       integer, allocatable :: start(:), idx(:)
    end type bins_t
 
@@ -50,7 +77,7 @@ contains
       type(face_t), allocatable :: faces(:)
       type(bins_t) :: bins
       integer :: i, b, nobj
-      real(rp) :: u(2), q(2)
+      real(rp) :: u(ndim), q(ndim)
       logical :: found
       if (.not. p%mdbc) return
       nobj = size(c%objs)
@@ -62,15 +89,16 @@ contains
          b = p%body(i) - nobj
          if (b >= 1) then
             ! a body: its own outline, in the body frame
-            q = nearest_on_outline(p%xb(:, i), bodies(b)%outline)
+            q = nearest_on_body(p%xb(:, i), bodies(b))
             if (norm2(q - p%xb(:, i)) < 2.0_rp*h) p%gof(:, i) = 2.0_rp*(q - p%xb(:, i))
          else
             ! too deep for any water to see it: no ghost (and no search)
-            q = nearest_on_faces(p%x(:, i), [0.0_rp, 0.0_rp], faces, found)
+            u = 0.0_rp
+            q = nearest_on_faces(c, p%x(:, i), u, faces, found)
             if (.not. found .or. norm2(q - p%x(:, i)) >= 2.0_rp*h) cycle
             call toward_water(p, bins, i, u, found)
             if (.not. found) cycle
-            q = nearest_on_faces(p%x(:, i), u, faces, found)
+            q = nearest_on_faces(c, p%x(:, i), u, faces, found)
             if (.not. found .or. norm2(q - p%x(:, i)) >= 2.0_rp*h) cycle
             p%gof(:, i) = 2.0_rp*(q - p%x(:, i))
             if (norm2(q - p%x(:, i)) < 0.6_rp*c%numerics%dp) call check_thick(c, p%x(:, i), q, h)
@@ -80,6 +108,19 @@ contains
       p%gob(:, 1:p%n) = p%gof(:, 1:p%n)
    end subroutine scene_ghost_offsets
 
+   !> Whether point x lies in solid o (in 3D: its outline extruded over its z range).
+   logical function in_solid(c, o, x) result(inside)
+      type(case_cfg), intent(in) :: c
+      integer, intent(in) :: o
+      real(rp), intent(in) :: x(ndim)
+      real(rp) :: zr(2)
+      inside = point_in_polygon(x(1:nsec), c%objs(o)%v)
+      if (ndim == 3 .and. inside) then
+         zr = geom_zrange(c%objs(o), [c%domain%zmin, c%domain%zmax])
+         inside = x(ndim) > zr(1) .and. x(ndim) < zr(2)
+      end if
+   end function in_solid
+
    !> A solid behind a wetted face must be 2h - dp/2 thick at least: the water
    !> half a spacing from the face has then the whole kernel's support of
    !> solid particles; a thinner wall lets it through (the dynamic boundary's
@@ -87,77 +128,222 @@ contains
    !> does not). x: a particle of the solid's first row, q: its face point.
    subroutine check_thick(c, x, q, h)
       type(case_cfg), intent(in) :: c
-      real(rp), intent(in) :: x(2), q(2), h
-      real(rp) :: deep(2), need
+      real(rp), intent(in) :: x(ndim), q(ndim), h
+      real(rp) :: deep(ndim), need
       integer :: o, k
       need = 2.0_rp*h - 0.5_rp*c%numerics%dp
       deep = q + need*(x - q)/norm2(x - q)
       k = 0
       do o = 1, size(c%objs)
          if (c%objs(o)%role_id /= role_solid) cycle
-         if (point_in_polygon(deep, c%objs(o)%v)) return
-         if (k == 0 .and. point_in_polygon(x, c%objs(o)%v)) k = o
+         if (in_solid(c, o, deep)) return
+         if (k == 0 .and. in_solid(c, o, x)) k = o
       end do
       if (k == 0) k = 1
       call input_error(c%file, 'numerics', 'boundary', "'mdbc' needs the solids at least 2h - dp/2 = "// &
                        real_str(need)//' m thick behind every face the water can touch ('// &
-                       int_str(ceiling(2.0_rp*h/c%numerics%dp - 1.0e-9_rp))//' rows); behind the face at ('// &
-                       real_str(q(1))//', '//real_str(q(2))//') &'//trim(c%objs(k)%group)//' #'// &
+                       int_str(ceiling(2.0_rp*h/c%numerics%dp - 1.0e-9_rp))//' rows); behind the face at '// &
+                       point_str(q)//' &'//trim(c%objs(k)%group)//' #'// &
                        int_str(c%objs(k)%index)//' is thinner: make it thicker (with the &domain room '// &
                        "behind it) or use 'dynamic'")
    end subroutine check_thick
 
-   !> The stretches of the solids' edges with neither another solid nor the
+   !> '(x, y)' or '(x, y, z)'.
+   function point_str(x) result(s)
+      real(rp), intent(in) :: x(:)
+      character(len=:), allocatable :: s
+      integer :: d
+      s = '('//real_str(x(1))
+      do d = 2, size(x)
+         s = s//', '//real_str(x(d))
+      end do
+      s = s//')'
+   end function point_str
+
+   !> The parts of the solids' surfaces with neither another solid nor the
    !> domain's edge just outside them.
    subroutine exposed_faces(c, faces)
       type(case_cfg), intent(in) :: c
       type(face_t), allocatable, intent(out) :: faces(:)
-      integer :: k, e, nv, nf, ist
-      real(rp) :: a(2), d(2)
+      integer :: k, nf, ist, s, m
+      real(rp), allocatable :: zb(:)
+      real(rp) :: zr(2), zdom(2), eps
       character(len=200) :: emsg
       allocate (faces(64), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'faces in exposed_faces')
       nf = 0
+      if (ndim == 2) then
+         call side_faces(c, probe_t(), 0.0_rp, 0.0_rp, faces, nf)
+      else
+         ! slabs across the width between the z ends of the solids
+         zdom = [c%domain%zmin, c%domain%zmax]
+         zb = [zdom]
+         do k = 1, size(c%objs)
+            if (c%objs(k)%role_id /= role_solid) cycle
+            zr = geom_zrange(c%objs(k), zdom)
+            zb = [zb, max(min(zr, zdom(2)), zdom(1))]
+         end do
+         call sort_unique(zb, 1.0e-9_rp*c%numerics%dp)
+         do m = 1, size(zb) - 1
+            call side_faces(c, probe_t(0.5_rp*(zb(m) + zb(m + 1)), 0), zb(m), zb(m + 1), faces, nf)
+         end do
+         ! the end faces inside the domain's width
+         eps = 1.0e-3_rp*c%numerics%dp
+         do k = 1, size(c%objs)
+            if (c%objs(k)%role_id /= role_solid) cycle
+            zr = geom_zrange(c%objs(k), zdom)
+            ends: do s = 1, 2
+               if (.not. (zr(s) > zdom(1) + eps .and. zr(s) < zdom(2) - eps)) cycle ends
+               call end_face(c, k, zr(s), real(2*s - 3, rp), faces, nf)
+            end do ends
+         end do
+      end if
+      faces = faces(1:nf)
+   end subroutine exposed_faces
+
+   !> The side faces of the solids that the probe pr's width (its z) finds,
+   !> open where pr finds free space, each spanning z0 to z1 across the width.
+   subroutine side_faces(c, pr, z0, z1, faces, nf)
+      type(case_cfg), intent(in) :: c
+      type(probe_t), intent(in) :: pr
+      real(rp), intent(in) :: z0, z1
+      type(face_t), allocatable, intent(inout) :: faces(:)
+      integer, intent(inout) :: nf
+      integer :: k, e, nv
+      real(rp) :: a(nsec), d(nsec), nrm(ndim)
       do k = 1, size(c%objs)
          if (c%objs(k)%role_id /= role_solid) cycle
+         if (.not. spans(c, k, pr%z)) cycle
          associate (v => c%objs(k)%v)
             nv = size(v, 2)
             edges: do e = 1, nv
                a = v(:, e)
                d = v(:, modulo(e, nv) + 1) - a
                if (norm2(d) <= 0.0_rp) cycle edges
-               call open_runs(c, a, d, sign(1.0_rp, polygon_area(v))*[d(2), -d(1)]/norm2(d), faces, nf)
+               nrm = 0.0_rp
+               nrm(1:nsec) = sign(1.0_rp, polygon_area(v))*[d(2), -d(1)]/norm2(d)
+               call open_runs(c, pr, a, d, nrm(1:nsec), nrm, z0, z1, faces, nf)
             end do edges
          end associate
       end do
-      faces = faces(1:nf)
-   end subroutine exposed_faces
+   end subroutine side_faces
 
-   !> The open stretches of the edge from a to a + d (outward normal nrm),
-   !> appended to faces(1:nf): the edge sampled every dp/4 between its
-   !> vertices (at a vertex the test point lies on the next solid's edge,
-   !> where point_in_polygon may go either way), the ends of each open run
-   !> found by bisection.
-   subroutine open_runs(c, a, d, nrm, faces, nf)
+   !> The end face of solid o at z = zc whose outward normal is s along z
+   !> (3D): the plane itself, open where no solid lies just beyond it, and the
+   !> edges of its open part: the stretches of o's outline with the open part
+   !> just inside, and of the solids' outlines beyond it with the open part
+   !> just outside.
+   subroutine end_face(c, o, zc, s, faces, nf)
       type(case_cfg), intent(in) :: c
-      real(rp), intent(in) :: a(2), d(2), nrm(2)
+      integer, intent(in) :: o
+      real(rp), intent(in) :: zc, s
       type(face_t), allocatable, intent(inout) :: faces(:)
       integer, intent(inout) :: nf
+      type(probe_t) :: pr
+      integer :: k, e, nv
+      real(rp) :: a(nsec), d(nsec), nrm(ndim), en(nsec)
+      nrm = 0.0_rp
+      nrm(ndim) = s
+      pr = probe_t(zc + s*1.0e-3_rp*c%numerics%dp, o)
+      call grow(faces, nf)
+      nf = nf + 1
+      faces(nf) = face_t(z0=zc, z1=zc, n=nrm, cap=o)
+      do k = 1, size(c%objs)
+         if (c%objs(k)%role_id /= role_solid) cycle
+         if (k /= o .and. .not. spans(c, k, pr%z)) cycle
+         associate (v => c%objs(k)%v)
+            nv = size(v, 2)
+            edges: do e = 1, nv
+               a = v(:, e)
+               d = v(:, modulo(e, nv) + 1) - a
+               if (norm2(d) <= 0.0_rp) cycle edges
+               en = sign(1.0_rp, polygon_area(v))*[d(2), -d(1)]/norm2(d)
+               ! o's own edges: the open part lies inside o; another's: outside it
+               if (k == o) en = -en
+               call open_runs(c, pr, a, d, en, nrm, zc, zc, faces, nf)
+            end do edges
+         end associate
+      end do
+   end subroutine end_face
+
+   !> Whether solid k spans z across the width (always in 2D).
+   logical function spans(c, k, z)
+      type(case_cfg), intent(in) :: c
+      integer, intent(in) :: k
+      real(rp), intent(in) :: z
+      real(rp) :: zr(2)
+      spans = .true.
+      if (ndim == 2) return
+      zr = geom_zrange(c%objs(k), [c%domain%zmin, c%domain%zmax])
+      spans = z > zr(1) .and. z < zr(2)
+   end function spans
+
+   !> x sorted in increasing order, values within tol of the one before dropped.
+   subroutine sort_unique(x, tol)
+      real(rp), allocatable, intent(inout) :: x(:)
+      real(rp), intent(in) :: tol
+      integer :: i, j, n
+      real(rp) :: t
+      n = size(x)
+      do i = 2, n
+         t = x(i)
+         j = i - 1
+         shift: do while (j >= 1)
+            if (x(j) <= t) exit shift
+            x(j + 1) = x(j)
+            j = j - 1
+         end do shift
+         x(j + 1) = t
+      end do
+      j = min(n, 1)
+      do i = 2, n
+         if (x(i) - x(j) > tol) then
+            j = j + 1
+            x(j) = x(i)
+         end if
+      end do
+      x = x(1:j)
+   end subroutine sort_unique
+
+   !> Room for one more face in faces(1:nf).
+   subroutine grow(faces, nf)
+      type(face_t), allocatable, intent(inout) :: faces(:)
+      integer, intent(in) :: nf
       type(face_t), allocatable :: tmp(:)
-      integer :: m, s, ist
+      integer :: ist
+      character(len=200) :: emsg
+      if (nf < size(faces)) return
+      allocate (tmp(2*nf), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'faces in scene_ghosts')
+      tmp(1:nf) = faces
+      call move_alloc(tmp, faces)
+   end subroutine grow
+
+   !> The open stretches of the edge from a to a + d, appended to faces(1:nf)
+   !> with the face normal nrm and the extent z0 to z1 across the width: open
+   !> where the probe pr finds free space just off the edge along tdir. The
+   !> edge is sampled every dp/4 between its vertices (at a vertex the test
+   !> point lies on the next solid's edge, where point_in_polygon may go either
+   !> way), the ends of each open run found by bisection.
+   subroutine open_runs(c, pr, a, d, tdir, nrm, z0, z1, faces, nf)
+      type(case_cfg), intent(in) :: c
+      type(probe_t), intent(in) :: pr
+      real(rp), intent(in) :: a(nsec), d(nsec), tdir(nsec), nrm(ndim), z0, z1
+      type(face_t), allocatable, intent(inout) :: faces(:)
+      integer, intent(inout) :: nf
+      integer :: m, s
       real(rp) :: t0, t1
       logical :: prev, now
-      character(len=200) :: emsg
       m = max(2, ceiling(4.0_rp*norm2(d)/c%numerics%dp))
       prev = .false.
       t0 = 0.0_rp
       do s = 1, m
-         now = open_at(c, a, d, nrm, (s - 0.5_rp)/m)
+         now = open_at(c, pr, a, d, tdir, (s - 0.5_rp)/m)
          if (now .and. .not. prev) then
             t0 = 0.0_rp
-            if (s > 1) t0 = edge_of_run(c, a, d, nrm, (s - 1.5_rp)/m, (s - 0.5_rp)/m)
+            if (s > 1) t0 = edge_of_run(c, pr, a, d, tdir, (s - 1.5_rp)/m, (s - 0.5_rp)/m)
          else if (prev .and. .not. now) then
-            t1 = edge_of_run(c, a, d, nrm, (s - 1.5_rp)/m, (s - 0.5_rp)/m)
+            t1 = edge_of_run(c, pr, a, d, tdir, (s - 1.5_rp)/m, (s - 0.5_rp)/m)
             call add(a + t0*d, a + t1*d)
          end if
          prev = now
@@ -165,47 +351,57 @@ contains
       if (prev) call add(a + t0*d, a + d)
    contains
       subroutine add(x0, x1)
-         real(rp), intent(in) :: x0(2), x1(2)
-         if (nf == size(faces)) then
-            allocate (tmp(2*nf), stat=ist, errmsg=emsg)
-            call alloc_check(ist, emsg, 'faces in open_runs')
-            tmp(1:nf) = faces
-            call move_alloc(tmp, faces)
-         end if
+         real(rp), intent(in) :: x0(nsec), x1(nsec)
+         call grow(faces, nf)
          nf = nf + 1
-         faces(nf) = face_t(x0, x1, nrm)
+         faces(nf) = face_t(x0, x1, z0, z1, nrm, 0)
       end subroutine add
    end subroutine open_runs
 
-   !> Whether the point at t along the edge from a to a + d (outward normal
-   !> nrm) has free space just outside it: inside the domain, in no solid.
-   logical function open_at(c, a, d, nrm, t) result(op)
+   !> Whether the point at t along the edge from a to a + d has free space
+   !> just off it along tdir, as the probe pr sees it.
+   logical function open_at(c, pr, a, d, tdir, t) result(op)
       type(case_cfg), intent(in) :: c
-      real(rp), intent(in) :: a(2), d(2), nrm(2), t
-      real(rp) :: x(2)
-      integer :: o
-      x = a + t*d + 1.0e-3_rp*c%numerics%dp*nrm
-      op = x(1) > c%domain%xmin .and. x(1) < c%domain%xmax .and. x(2) > c%domain%ymin .and. x(2) < c%domain%ymax
-      solids: do o = 1, size(c%objs)
-         if (.not. op) return
-         if (c%objs(o)%role_id /= role_solid) cycle solids
-         if (point_in_polygon(x, c%objs(o)%v)) op = .false.
-      end do solids
+      type(probe_t), intent(in) :: pr
+      real(rp), intent(in) :: a(nsec), d(nsec), tdir(nsec), t
+      op = open_point(c, pr, a + t*d + 1.0e-3_rp*c%numerics%dp*tdir)
    end function open_at
 
-   !> Where open_at changes between ta and tb along the edge (it differs at the two).
-   real(rp) function edge_of_run(c, a, d, nrm, ta, tb) result(t)
+   !> Whether the section's point x is free space for the probe pr: inside
+   !> the domain (own = 0) or in objs(own)'s outline, and in no solid that
+   !> spans pr's z (own excepted).
+   logical function open_point(c, pr, x) result(op)
       type(case_cfg), intent(in) :: c
-      real(rp), intent(in) :: a(2), d(2), nrm(2), ta, tb
+      type(probe_t), intent(in) :: pr
+      real(rp), intent(in) :: x(nsec)
+      integer :: o
+      if (pr%own > 0) then
+         op = point_in_polygon(x, c%objs(pr%own)%v)
+      else
+         op = x(1) > c%domain%xmin .and. x(1) < c%domain%xmax .and. x(2) > c%domain%ymin .and. x(2) < c%domain%ymax
+      end if
+      solids: do o = 1, size(c%objs)
+         if (.not. op) return
+         if (c%objs(o)%role_id /= role_solid .or. o == pr%own) cycle solids
+         if (.not. spans(c, o, pr%z)) cycle solids
+         if (point_in_polygon(x, c%objs(o)%v)) op = .false.
+      end do solids
+   end function open_point
+
+   !> Where open_at changes between ta and tb along the edge (it differs at the two).
+   real(rp) function edge_of_run(c, pr, a, d, tdir, ta, tb) result(t)
+      type(case_cfg), intent(in) :: c
+      type(probe_t), intent(in) :: pr
+      real(rp), intent(in) :: a(nsec), d(nsec), tdir(nsec), ta, tb
       real(rp) :: lo, hi
       logical :: at_lo
       integer :: it
       lo = ta
       hi = tb
-      at_lo = open_at(c, a, d, nrm, lo)
+      at_lo = open_at(c, pr, a, d, tdir, lo)
       do it = 1, 50
          t = 0.5_rp*(lo + hi)
-         if (open_at(c, a, d, nrm, t) .eqv. at_lo) then
+         if (open_at(c, pr, a, d, tdir, t) .eqv. at_lo) then
             lo = t
          else
             hi = t
@@ -219,18 +415,18 @@ contains
       type(particles_t), intent(in) :: p
       real(rp), intent(in) :: cs
       type(bins_t), intent(out) :: bins
-      integer :: i, c, nf, ist
+      integer :: i, c, d, nf, ist
       integer, allocatable :: cell(:)
       character(len=200) :: emsg
-      real(rp) :: lo(2), hi(2)
+      real(rp) :: lo(ndim), hi(ndim)
       lo = huge(1.0_rp)
       hi = -huge(1.0_rp)
       nf = 0
       do i = 1, p%n
          if (p%kind(i) /= kind_fluid) cycle
          nf = nf + 1
-         lo = min(lo, p%x(1:2, i))
-         hi = max(hi, p%x(1:2, i))
+         lo = min(lo, p%x(:, i))
+         hi = max(hi, p%x(:, i))
       end do
       if (nf == 0) then
          lo = 0.0_rp
@@ -238,16 +434,19 @@ contains
       end if
       bins%x0 = lo
       bins%cs = cs
-      bins%nx = int((hi(1) - lo(1))/cs) + 1
-      bins%ny = int((hi(2) - lo(2))/cs) + 1
+      bins%nc = int((hi - lo)/cs) + 1
+      bins%stride(1) = 1
+      do d = 2, ndim
+         bins%stride(d) = bins%stride(d - 1)*bins%nc(d - 1)
+      end do
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (bins%start(bins%nx*bins%ny + 1), bins%idx(nf), cell(p%n), stat=ist, errmsg=emsg)
+      allocate (bins%start(product(bins%nc) + 1), bins%idx(nf), cell(p%n), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'the fluid bins of scene_ghost_offsets')
       bins%start = 0
       do i = 1, p%n
          cell(i) = 0
          if (p%kind(i) /= kind_fluid) cycle
-         cell(i) = bin_of(bins, p%x(1, i), p%x(2, i))
+         cell(i) = bin_of(bins, p%x(:, i))
          bins%start(cell(i) + 1) = bins%start(cell(i) + 1) + 1
       end do
       bins%start(1) = 1
@@ -267,81 +466,125 @@ contains
    end subroutine bin_fluid
 
    !> The cell of a point inside the bins' box.
-   pure integer function bin_of(bins, x, y) result(c)
+   pure integer function bin_of(bins, x) result(c)
       type(bins_t), intent(in) :: bins
-      real(rp), intent(in) :: x, y
-      integer :: ix, iy
-      ix = min(max(int((x - bins%x0(1))/bins%cs) + 1, 1), bins%nx)
-      iy = min(max(int((y - bins%x0(2))/bins%cs) + 1, 1), bins%ny)
-      c = ix + (iy - 1)*bins%nx
+      real(rp), intent(in) :: x(ndim)
+      integer :: d
+      c = 1
+      do d = 1, ndim
+         c = c + (min(max(int((x(d) - bins%x0(d))/bins%cs) + 1, 1), bins%nc(d)) - 1)*bins%stride(d)
+      end do
    end function bin_of
 
    !> Unit vector from particle i to the nearest fluid particle (found:
    !> there is one; of equally near ones the first in p). The cells are
-   !> searched in square rings around the particle's, until the next ring
-   !> cannot hold a nearer one.
+   !> searched in shells around the particle's (the cells r cells away along
+   !> some axis and no more along any), until the next shell cannot hold a
+   !> nearer one.
    subroutine toward_water(p, bins, i, u, found)
       type(particles_t), intent(in) :: p
       type(bins_t), intent(in) :: bins
       integer, intent(in) :: i
-      real(rp), intent(out) :: u(2)
+      real(rp), intent(out) :: u(ndim)
       logical, intent(out) :: found
-      integer :: jmin, cx, cy, r, rmax, ix, iy
+      integer :: jmin, ci(ndim), r, rmax, d
       real(rp) :: dmin
       dmin = huge(1.0_rp)
       jmin = 0
       ! the particle's cell, possibly outside the box
-      cx = floor((p%x(1, i) - bins%x0(1))/bins%cs) + 1
-      cy = floor((p%x(2, i) - bins%x0(2))/bins%cs) + 1
-      rmax = max(abs(cx - 1), abs(cx - bins%nx), abs(cy - 1), abs(cy - bins%ny))
+      rmax = 0
+      do d = 1, ndim
+         ci(d) = floor((p%x(d, i) - bins%x0(d))/bins%cs) + 1
+         rmax = max(rmax, abs(ci(d) - 1), abs(ci(d) - bins%nc(d)))
+      end do
       do r = 0, rmax
-         do ix = max(cx - r, 1), min(cx + r, bins%nx)
-            call visit(ix, cy - r)
-            if (r > 0) call visit(ix, cy + r)
-         end do
-         do iy = max(cy - r + 1, 1), min(cy + r - 1, bins%ny)
-            call visit(cx - r, iy)
-            if (r > 0) call visit(cx + r, iy)
-         end do
-         ! every point of ring r + 1 is at least r cells away
+         call visit_shell(p, bins, i, ci, r, dmin, jmin)
+         ! every point of shell r + 1 is at least r cells away
          if (jmin > 0 .and. (real(r, rp)*bins%cs)**2 > dmin) exit
       end do
       found = jmin > 0
       u = 0.0_rp
       if (found) u = (p%x(:, jmin) - p%x(:, i))/sqrt(dmin)
-   contains
-      !> The particles of cell (ix, iy), if it is one of the box.
-      subroutine visit(ix, iy)
-         integer, intent(in) :: ix, iy
-         integer :: k, j, c
-         real(rp) :: d2
-         if (ix < 1 .or. ix > bins%nx .or. iy < 1 .or. iy > bins%ny) return
-         c = ix + (iy - 1)*bins%nx
-         do k = bins%start(c), bins%start(c + 1) - 1
-            j = bins%idx(k)
-            d2 = (p%x(1, j) - p%x(1, i))**2 + (p%x(2, j) - p%x(2, i))**2
-            if (d2 < dmin .or. (.not. d2 > dmin .and. j < jmin)) then
-               dmin = d2
-               jmin = j
+   end subroutine toward_water
+
+   !> The cells of shell r around cell ci inside the box (rows along x where y,
+   !> or z, is r cells away; the two ends of the others), for the fluid
+   !> particle nearest to particle i so far: jmin at the squared distance dmin.
+   subroutine visit_shell(p, bins, i, ci, r, dmin, jmin)
+      type(particles_t), intent(in) :: p
+      type(bins_t), intent(in) :: bins
+      integer, intent(in) :: i, ci(ndim), r
+      real(rp), intent(inout) :: dmin
+      integer, intent(inout) :: jmin
+      integer :: lo(3), hi(3), ix, iy, iz, d
+      lo = 1
+      hi = 1
+      do d = 1, ndim
+         lo(d) = max(ci(d) - r, 1)
+         hi(d) = min(ci(d) + r, bins%nc(d))
+      end do
+      do iz = lo(3), hi(3)
+         do iy = lo(2), hi(2)
+            if (abs(iy - ci(2)) == r .or. (ndim == 3 .and. abs(iz - ci(ndim)) == r)) then
+               do ix = lo(1), hi(1)
+                  call visit_cell(p, bins, i, [ix, iy, iz], dmin, jmin)
+               end do
+            else
+               call visit_cell(p, bins, i, [ci(1) - r, iy, iz], dmin, jmin)
+               if (r > 0) call visit_cell(p, bins, i, [ci(1) + r, iy, iz], dmin, jmin)
             end if
          end do
-      end subroutine visit
-   end subroutine toward_water
+      end do
+   end subroutine visit_shell
+
+   !> The particles of cell ix(1:ndim), if it is one of the box.
+   pure subroutine visit_cell(p, bins, i, ix, dmin, jmin)
+      type(particles_t), intent(in) :: p
+      type(bins_t), intent(in) :: bins
+      integer, intent(in) :: i, ix(3)
+      real(rp), intent(inout) :: dmin
+      integer, intent(inout) :: jmin
+      integer :: k, j, c, d
+      real(rp) :: d2
+      c = 1
+      do d = 1, ndim
+         if (ix(d) < 1 .or. ix(d) > bins%nc(d)) return
+         c = c + (ix(d) - 1)*bins%stride(d)
+      end do
+      do k = bins%start(c), bins%start(c + 1) - 1
+         j = bins%idx(k)
+         d2 = sum((p%x(:, j) - p%x(:, i))**2)
+         if (d2 < dmin .or. (.not. d2 > dmin .and. j < jmin)) then
+            dmin = d2
+            jmin = j
+         end if
+      end do
+   end subroutine visit_cell
 
    !> The nearest point to x of the faces that look towards u (outward
    !> normal . u > 0; found: one does); u = 0: of all faces.
-   function nearest_on_faces(x, u, faces, found) result(q)
-      real(rp), intent(in) :: x(2), u(2)
+   function nearest_on_faces(c, x, u, faces, found) result(q)
+      type(case_cfg), intent(in) :: c
+      real(rp), intent(in) :: x(ndim), u(ndim)
       type(face_t), intent(in) :: faces(:)
       logical, intent(out) :: found
-      real(rp) :: q(2), y(2), dmin, dd
+      real(rp) :: q(ndim), y(ndim), dmin, dd
       integer :: k
       q = x
       dmin = huge(1.0_rp)
       found = .false.
       do k = 1, size(faces)
-         y = nearest_on_segment(x, faces(k)%a, faces(k)%b)
          if (dot_product(faces(k)%n, u) <= 0.0_rp .and. dot_product(u, u) > 0.0_rp) cycle
+         if (faces(k)%cap > 0) then
+            ! straight across to the plane of an end face, where it is open
+            if (.not. open_point(c, probe_t(faces(k)%z0 + faces(k)%n(ndim)*1.0e-3_rp*c%numerics%dp, faces(k)%cap), &
+                                 x(1:nsec))) cycle
+            y = x
+            y(ndim) = faces(k)%z0
+         else
+            y(1:nsec) = nearest_on_segment(x(1:nsec), faces(k)%a, faces(k)%b)
+            if (ndim == 3) y(ndim) = min(max(x(ndim), faces(k)%z0), faces(k)%z1)
+         end if
          dd = norm2(y - x)
          if (dd < dmin) then
             dmin = dd
@@ -351,10 +594,28 @@ contains
       end do
    end function nearest_on_faces
 
+   !> The nearest point to x (in the body frame) of a body's surface: its
+   !> outline, in 3D extruded over its depth, with its two end faces.
+   pure function nearest_on_body(x, b) result(q)
+      real(rp), intent(in) :: x(ndim)
+      type(body_t), intent(in) :: b
+      real(rp) :: q(ndim), y(ndim)
+      integer :: s
+      q(1:nsec) = nearest_on_outline(x(1:nsec), b%outline)
+      if (ndim == 2) return
+      q(ndim) = min(max(x(ndim), -b%zhalf), b%zhalf)
+      if (.not. point_in_polygon(x(1:nsec), b%outline)) return
+      do s = -1, 1, 2
+         y = x
+         y(ndim) = s*b%zhalf
+         if (norm2(y - x) < norm2(q - x)) q = y
+      end do
+   end function nearest_on_body
+
    !> The nearest point to x of a closed outline.
    pure function nearest_on_outline(x, v) result(q)
-      real(rp), intent(in) :: x(2), v(:, :)
-      real(rp) :: q(2), y(2), dmin
+      real(rp), intent(in) :: x(nsec), v(:, :)
+      real(rp) :: q(nsec), y(nsec), dmin
       integer :: k, nv
       nv = size(v, 2)
       dmin = huge(1.0_rp)
@@ -369,8 +630,8 @@ contains
    end function nearest_on_outline
 
    pure function nearest_on_segment(x, a, b) result(y)
-      real(rp), intent(in) :: x(2), a(2), b(2)
-      real(rp) :: y(2), e(2), t
+      real(rp), intent(in) :: x(nsec), a(nsec), b(nsec)
+      real(rp) :: y(nsec), e(nsec), t
       e = b - a
       t = max(0.0_rp, min(1.0_rp, dot_product(x - a, e)/max(dot_product(e, e), tiny(1.0_rp))))
       y = a + t*e

@@ -145,12 +145,11 @@ contains
          else
             call mdbc_update(prm, g, p, w%vol, w%vb, w%md)
          end if
-         if (comm_size() > 1) then
-            call mdbc_edges(prm, g, p, w)
-            ! the halo's copies of the solids take their owners' values
-            call comm_halo_forward(halo, p%rho, p%n_own)
-            if (prm%slip /= slip_wall) call comm_halo_forward(halo, w%vb, p%n_own)
-         end if
+         if (comm_size() > 1) call mdbc_edges(prm, g, p, w)
+         ! the halo's copies of the solids, and their images across periodic sides (on
+         ! one rank too), take their owners' values
+         call comm_halo_forward(halo, p%rho, p%n_own)
+         if (prm%slip /= slip_wall) call comm_halo_forward(halo, w%vb, p%n_own)
       end if
       call forces_prepare(prm, p, w)
       call forces_sweep(prm, g, p, w, halo)
