@@ -54,7 +54,10 @@ module body_dynamics
       type(pose_t) :: pose0
       real(rp) :: v0(ndim) = 0.0_rp, omega0(nrot) = 0.0_rp
       real(rp), allocatable :: outline(:, :)  !< outline in the particle frame (centre at 0)
-      real(rp) :: zhalf = 0.0_rp            !< 3D: half its depth across the width (the outline's extrusion) [m]
+      !> 3D: the box's half sides in its own frame [m], and the rotation from its own frame to
+      !> the particle frame (its start orientation)
+      real(rp) :: half(3) = 0.0_rp
+      real(rp) :: turn(3, 3) = reshape([1.0_rp, 0.0_rp, 0.0_rp, 0.0_rp, 1.0_rp, 0.0_rp, 0.0_rp, 0.0_rp, 1.0_rp], [3, 3])
    end type body_t
 
    !> damping matrix of the velocity-proportional contact forces on the

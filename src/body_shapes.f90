@@ -1,14 +1,16 @@
 !> Rigid-body shapes: outline, mass properties from the geometry, and the
 !> boundary particles (hollow shells of `layers` rows along the outline). In
 !> 3D a body is a box: the section's rectangle times its depth across the
-!> width, turned by its angle about z; its outline is the section's.
+!> width, turned by angle_x about x, angle_y about y and angle about z; its
+!> outline is the section's (of a box turned out of the section, the outline
+!> of its shadow on the section).
 module body_shapes
    use errors, only: alloc_check, fatal
    use input_check, only: int_str
    use kinds, only: rp
    use constants, only: pi, ndim, nsec
    use rigid, only: nrot
-   use input_body, only: body_cfg
+   use input_body, only: body_cfg, body_turn, body_tilted
    use options, only: shape_circle, shape_box, shape_wedge, shape_polygon
    implicit none
    private
@@ -41,6 +43,10 @@ contains
             v(:, k) = [c%x, c%y] + c%radius*[cos(2*pi*(k - 1)/circle_sides), sin(2*pi*(k - 1)/circle_sides)]
          end do
       case (shape_box)
+         if (ndim == 3 .and. body_tilted(c)) then
+            v = box_shadow(c)
+            return
+         end if
          allocate (v(2, 4), stat=ist, errmsg=emsg)
          call alloc_check(ist, emsg, 'v in body_outline')
          v = 0.5_rp*reshape([-c%width, -c%height, c%width, -c%height, c%width, c%height, -c%width, c%height], [2, 4])
@@ -64,6 +70,59 @@ contains
          call fatal('body_outline: unknown shape '//int_str(c%shape_id))
       end select
    end function body_outline
+
+   !> The outline (counter-clockwise) of the shadow of a turned box on the
+   !> section: the convex hull of its eight corners' (x, y), by the monotone
+   !> chain.
+   function box_shadow(c) result(v)
+      type(body_cfg), intent(in) :: c
+      real(rp), allocatable :: v(:, :)
+      integer, parameter :: ncorner = 8           !< a box's corners
+      real(rp) :: r(3, 3), p(2, ncorner), t(2), hull(2, 2*ncorner)
+      integer :: i, j, k, n
+      r = body_turn(c)
+      k = 0
+      do i = 0, ncorner - 1
+         k = k + 1
+         p(:, k) = [c%x, c%y] + matmul(r(1:2, :), 0.5_rp*[c%width*merge(1, -1, btest(i, 0)), &
+                                                          c%height*merge(1, -1, btest(i, 1)), &
+                                                          c%depth*merge(1, -1, btest(i, 2))])
+      end do
+      ! sorted by x, then y
+      do i = 2, ncorner
+         t = p(:, i)
+         j = i - 1
+         shift: do while (j >= 1)
+            if (p(1, j) < t(1) .or. (p(1, j) <= t(1) .and. p(2, j) <= t(2))) exit shift
+            p(:, j + 1) = p(:, j)
+            j = j - 1
+         end do shift
+         p(:, j + 1) = t
+      end do
+      n = 0
+      do i = 1, ncorner                            ! the lower hull
+         call push(p(:, i), 1)
+      end do
+      k = n
+      do i = ncorner - 1, 1, -1                    ! the upper hull
+         call push(p(:, i), k)
+      end do
+      v = hull(:, 1:n - 1)                         ! its last point is its first
+   contains
+      !> p0 onto the hull, after dropping the points that would make a clockwise turn
+      !> (the chain being built starts at n0).
+      subroutine push(p0, n0)
+         real(rp), intent(in) :: p0(2)
+         integer, intent(in) :: n0
+         do while (n >= n0 + 1)
+            if ((hull(1, n) - hull(1, n - 1))*(p0(2) - hull(2, n - 1)) - &
+                (hull(2, n) - hull(2, n - 1))*(p0(1) - hull(1, n - 1)) > 0.0_rp) exit
+            n = n - 1
+         end do
+         n = n + 1
+         hull(:, n) = p0
+      end subroutine push
+   end function box_shadow
 
    !> Signed area and centroid of a polygon.
    pure subroutine polygon_props(v, area, cen)
@@ -125,17 +184,10 @@ contains
       ib(1, 1) = mass*(c%height**2 + c%depth**2)/12.0_rp
       ib(2, 2) = mass*(c%width**2 + c%depth**2)/12.0_rp
       ib(3, 3) = mass*(c%width**2 + c%height**2)/12.0_rp
-      r3 = turn_about_z(c%angle*pi/180.0_rp)
+      r3 = body_turn(c)
       i3 = matmul(r3, matmul(ib, transpose(r3)))
       inertia = i3(1:nrot, 1:nrot)
    end subroutine box_mass_properties
-
-   !> The rotation by a about z, as a 3 x 3 matrix.
-   pure function turn_about_z(a) result(r)
-      real(rp), intent(in) :: a
-      real(rp) :: r(3, 3)
-      r = reshape([cos(a), sin(a), 0.0_rp, -sin(a), cos(a), 0.0_rp, 0.0_rp, 0.0_rp, 1.0_rp], [3, 3])
-   end function turn_about_z
 
    !> The boundary particles of a 3D box in its own frame (centre at the origin,
    !> the start angle applied): the points of a lattice of about dp fitted to the
@@ -155,7 +207,7 @@ contains
       side = [c%width, c%height, c%depth]
       nn = max(1, nint(side/dp))
       s = side/nn
-      r3 = turn_about_z(c%angle*pi/180.0_rp)
+      r3 = body_turn(c)
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (xb(ndim, product(nn)), nb(ndim, product(nn)), surf(product(nn)), stat=ist, errmsg=emsg)
       call alloc_check(ist, emsg, 'xb, nb, surf in box_particles')

@@ -8,6 +8,7 @@ module contact_eq
    use params, only: params_t
    use particles, only: particles_t
    use body_dynamics, only: body_t, body_arm
+   use rigid, only: nrot, rigid_point_velocity
    use options, only: model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
    use contact_state, only: contact_t, key_index, store_pair
    use contact_pair, only: pair_force, pair_friction, pair_viscous, velocity_at, contact_normal, partition_weight, &
@@ -74,6 +75,9 @@ contains
          n = ct%pn(:, m); rp_w = ct%pw(m); q = ct%pq(m)
          xc = ct%kx(:, ct%pkey(m))/ct%kw(ct%pkey(m))
          vrel = velocity_at(bodies, p, bi, xc, i) - velocity_at(bodies, p, bj, xc, j)
+         ! in 3D a body can also spin about the contact's normal, which moves the
+         ! contact centre not at all: each pair slips by that spin at its own place
+         if (ndim == 3) vrel = vrel + spin_slip(bodies, p, i, j, bi, bj, n, xc)
          if (p%surf(i) == 1 .and. p%surf(j) == 1) then
             ul = dot_product(p%v(:, i) - p%v(:, j), n)
          else
@@ -123,6 +127,40 @@ contains
          if (fn > 0.0_rp) call pair_friction(ct, bodies, p, i, j, bi, bj, n, fn, vrel, xi)
       end do pairs
    end subroutine eq_apply
+
+   !> The slip of the pair i, j from the two bodies' relative spin about the
+   !> normal n, at the pair's midpoint seen from the contact centre xc (3D).
+   pure function spin_slip(bodies, p, i, j, bi, bj, n, xc) result(v)
+      type(body_t), intent(in) :: bodies(:)
+      type(particles_t), intent(in) :: p
+      integer, intent(in) :: i, j, bi, bj
+      real(rp), intent(in) :: n(ndim), xc(ndim)
+      real(rp) :: v(ndim), w(nrot), xm(ndim), arm(ndim)
+      integer :: b
+      w = 0.0_rp
+      if (bi > 0) w = w + bodies(bi)%omega
+      if (bj > 0) w = w - bodies(bj)%omega
+      xm = 0.5_rp*(p%x(:, i) + p%x(:, j))
+      b = max(bi, bj)
+      arm = xm - xc
+      ! with periodic sides the arms of the images nearest the body's centre
+      if (b > 0) arm = body_arm(bodies(b), xm) - body_arm(bodies(b), xc)
+      v = rigid_point_velocity(spread(0.0_rp, 1, ndim), dot_product(pad_rot(w), n)*rot_part(n), arm)
+   contains
+      !> omega as a vector of ndim components (3D: nrot = ndim)
+      pure function pad_rot(x) result(y)
+         real(rp), intent(in) :: x(nrot)
+         real(rp) :: y(ndim)
+         y = 0.0_rp
+         y(1:min(nrot, ndim)) = x(1:min(nrot, ndim))
+      end function pad_rot
+      pure function rot_part(x) result(y)
+         real(rp), intent(in) :: x(ndim)
+         real(rp) :: y(nrot)
+         y = 0.0_rp
+         y(1:min(nrot, ndim)) = x(1:min(nrot, ndim))
+      end function rot_part
+   end function spin_slip
 
    !> R(psi)/A of Eq. 3: (1 - q)/sqrt(q + q0) times the barrier
    !> 1 + (qb/(q + q0))^4, which leaves R as it is at touching distance and

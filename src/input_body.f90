@@ -13,7 +13,7 @@ module input_body
                       body_motion_names, motion_floating, motion_prescribed
    implicit none
    private
-   public :: body_zrange, body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
+   public :: body_zrange, body_turn, body_tilted, body_cfg, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
 
    integer, parameter :: body_max_vert = 100
 
@@ -26,6 +26,9 @@ module input_body
       real(rp) :: z = 0.0_rp                           !< 3D: centre across the width [m]
       real(rp) :: depth = 0.0_rp                       !< 3D: box side across the width [m]
       real(rp) :: angle = 0.0_rp                       !< initial rotation [deg], counter-clockwise
+      !> 3D: initial turns about x and about y [deg], taken before angle (about z): R = Rz Ry Rx
+      real(rp) :: angle_x = 0.0_rp, angle_y = 0.0_rp
+      real(rp) :: omega_x = 0.0_rp, omega_y = 0.0_rp   !< 3D, floating: initial angular velocity about x and y [rad/s]
       integer :: nvert = 0                             !< polygon / wedge vertices
       real(rp) :: vx(body_max_vert) = 0.0_rp, vy(body_max_vert) = 0.0_rp
       real(rp) :: density = 0.0_rp                     !< [kg/m3]; or
@@ -66,12 +69,13 @@ module input_body
    type(body_cfg) :: dflt
    character(len=name_len) :: shape, motion, model
    real(rp) :: x, y, radius, width, height, angle, density, mass, u, v, omega, mu, restitution, young, poisson
-   real(rp) :: z, depth, w
+   real(rp) :: z, depth, w, angle_x, angle_y, omega_x, omega_y
    real(rp) :: amplitude_x, amplitude_y, amplitude_angle, period, phase
    real(rp) :: vx(body_max_vert), vy(body_max_vert)
    integer :: nvert, layers
    namelist /body/ shape, x, y, radius, width, height, angle, nvert, vx, vy, density, mass, motion, u, v, &
-      omega, amplitude_x, amplitude_y, amplitude_angle, period, phase, mu, restitution, young, poisson, layers, z, depth, w
+      omega, amplitude_x, amplitude_y, amplitude_angle, period, phase, mu, restitution, young, poisson, layers, z, depth, w, &
+      angle_x, angle_y, omega_x, omega_y
    real(rp) :: r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier, core_overlap
    namelist /contact/ model, r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier, core_overlap
 
@@ -85,6 +89,7 @@ contains
       young = c%young; poisson = c%poisson; layers = c%layers
       amplitude_x = c%amplitude_x; amplitude_y = c%amplitude_y; amplitude_angle = c%amplitude_angle
       period = c%period; phase = c%phase; z = c%z; depth = c%depth; w = c%w
+      angle_x = c%angle_x; angle_y = c%angle_y; omega_x = c%omega_x; omega_y = c%omega_y
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -95,6 +100,7 @@ contains
       c%young = young; c%poisson = poisson; c%layers = layers
       c%amplitude_x = amplitude_x; c%amplitude_y = amplitude_y; c%amplitude_angle = amplitude_angle
       c%period = period; c%phase = phase; c%z = z; c%depth = depth; c%w = w
+      c%angle_x = angle_x; c%angle_y = angle_y; c%omega_x = omega_x; c%omega_y = omega_y
    end subroutine from_vars
 
    subroutine read_bodies(file, dp, bodies)
@@ -171,9 +177,37 @@ contains
    !> A body's extent across the width in 3D: its depth about z.
    pure function body_zrange(b) result(z)
       type(body_cfg), intent(in) :: b
-      real(rp) :: z(2)
+      real(rp) :: z(2), r(3, 3), e
+      if (body_tilted(b)) then
+         ! the turned box's extent across the width
+         r = body_turn(b)
+         e = 0.5_rp*(abs(r(3, 1))*b%width + abs(r(3, 2))*b%height + abs(r(3, 3))*b%depth)
+         z = b%z + [-e, e]
+         return
+      end if
       z = b%z + 0.5_rp*[-b%depth, b%depth]
    end function body_zrange
+
+   !> Whether a body is turned about x or y at the start (3D).
+   pure logical function body_tilted(b)
+      type(body_cfg), intent(in) :: b
+      ! written so that a NaN counts as a turn (and is refused)
+      body_tilted = .not. (abs(b%angle_x) <= 0.0_rp .and. abs(b%angle_y) <= 0.0_rp)
+   end function body_tilted
+
+   !> The start orientation of a body as a 3 x 3 rotation from its own frame:
+   !> about x by angle_x, then about y by angle_y, then about z by angle
+   !> (R = Rz Ry Rx; in 2D only angle counts).
+   pure function body_turn(b) result(r)
+      type(body_cfg), intent(in) :: b
+      real(rp) :: r(3, 3), ax, ay, az
+      ax = b%angle_x*pi/180.0_rp
+      ay = b%angle_y*pi/180.0_rp
+      az = b%angle*pi/180.0_rp
+      r = matmul(reshape([cos(az), sin(az), 0.0_rp, -sin(az), cos(az), 0.0_rp, 0.0_rp, 0.0_rp, 1.0_rp], [3, 3]), &
+                 matmul(reshape([cos(ay), 0.0_rp, -sin(ay), 0.0_rp, 1.0_rp, 0.0_rp, sin(ay), 0.0_rp, cos(ay)], [3, 3]), &
+                        reshape([1.0_rp, 0.0_rp, 0.0_rp, 0.0_rp, cos(ax), sin(ax), 0.0_rp, -sin(ax), cos(ax)], [3, 3])))
+   end function body_turn
 
    !> The body across the width: in 3D a box of side depth, centred at z; in 2D
    !> neither is given.
@@ -187,6 +221,11 @@ contains
             'leave it out in 2D')
          if (abs(c%w) > 0.0_rp) call input_error(file, g, 'w', 'a velocity across the width is for the 3D build '// &
                                                  '(build/mbsph3d); leave it out in 2D')
+         if (body_tilted(c)) call input_error(file, g, trim(merge('angle_x', 'angle_y', abs(c%angle_x) > 0.0_rp)), &
+            'a turn out of the section is for the 3D build (build/mbsph3d); leave it out in 2D')
+         if (.not. (abs(c%omega_x) <= 0.0_rp .and. abs(c%omega_y) <= 0.0_rp)) call input_error(file, g, &
+            trim(merge('omega_x', 'omega_y', abs(c%omega_x) > 0.0_rp)), &
+            'a spin out of the section is for the 3D build (build/mbsph3d); leave it out in 2D')
          return
       end if
       if (abs(c%w) > 0.0_rp .and. c%motion_id /= motion_floating) call input_error(file, g, 'w', &
@@ -194,6 +233,14 @@ contains
       if (c%shape_id /= shape_box) call input_error(file, g, 'shape', 'the 3D build has box bodies only yet '// &
                                                     "(doc/3d.md): 'box'; got '"//trim(c%shape)//"'")
       call check_real(file, g, 'depth', c%depth, 2.0_rp*dp, 1.0e4_rp)
+      call check_real(file, g, 'angle_x', c%angle_x, -360.0_rp, 360.0_rp)
+      call check_real(file, g, 'angle_y', c%angle_y, -360.0_rp, 360.0_rp)
+      call check_real(file, g, 'omega_x', c%omega_x, -1.0e3_rp*pi, 1.0e3_rp*pi)
+      call check_real(file, g, 'omega_y', c%omega_y, -1.0e3_rp*pi, 1.0e3_rp*pi)
+      if (.not. (abs(c%omega_x) <= 0.0_rp .and. abs(c%omega_y) <= 0.0_rp) .and. c%motion_id /= motion_floating) then
+         call input_error(file, g, trim(merge('omega_x', 'omega_y', abs(c%omega_x) > 0.0_rp)), &
+                          'a spin out of the section is for a floating body (a prescribed one turns about z)')
+      end if
    end subroutine check_width
 
    !> The oscillation of a prescribed body: amplitudes, period and phase.

@@ -19,7 +19,7 @@ module rigid
    public :: pose_t, nrot, ndof, rigid_rotation, rigid_rotate, rigid_point_velocity, rigid_moment, &
              rigid_moment_add, rigid_moment_sub, rigid_angular_accel, rigid_inertia_inverse, rigid_turn, &
              rigid_angle, rigid_rot_energy, npose, rigid_pose_pack, rigid_pose_unpack, rigid_world_inertia, &
-             rigid_set_angle_z
+             rigid_set_angle_z, rigid_tilt
 
    integer, parameter :: nrot = ndim*(ndim - 1)/2   !< rotational degrees of freedom: 1 in 2D, 3 in 3D
    integer, parameter :: ndof = ndim + nrot         !< degrees of freedom of a body
@@ -43,6 +43,17 @@ contains
       pose%theta = a
       if (ndim == 3) pose%q = [cos(0.5_rp*a), 0.0_rp, 0.0_rp, sin(0.5_rp*a)]
    end subroutine rigid_set_angle_z
+
+   !> Turns a 3D pose about x by ax, then about y by ay, before its present
+   !> orientation (q = q_now q_y q_x, the rotation R_now R_y R_x); in 2D there is
+   !> no turn out of the section, and the pose is left as it is.
+   pure subroutine rigid_tilt(pose, ax, ay)
+      type(pose_t), intent(inout) :: pose
+      real(rp), intent(in) :: ax, ay
+      if (ndim == 2) return
+      pose%q = quat_mul(pose%q, quat_mul([cos(0.5_rp*ay), 0.0_rp, sin(0.5_rp*ay), 0.0_rp], &
+                                         [cos(0.5_rp*ax), sin(0.5_rp*ax), 0.0_rp, 0.0_rp]))
+   end subroutine rigid_tilt
 
    !> A pose as npose numbers (the checkpoint): the centre, then the orientation.
    pure function rigid_pose_pack(pose) result(v)
@@ -78,7 +89,7 @@ contains
    !> (their frame) to the pose now: x = c + R xb.
    pure function rigid_rotation(now, ref) result(r)
       type(pose_t), intent(in) :: now, ref
-      real(rp) :: r(ndim, ndim), cs, sn, m(3, 3)
+      real(rp) :: r(ndim, ndim), cs, sn, m(3, 3), a(3, 3), b(3, 3)
       if (ndim == 2) then
          cs = cos(now%theta - ref%theta)
          sn = sin(now%theta - ref%theta)
@@ -88,7 +99,10 @@ contains
          r(1, ndim) = -sn
          r(ndim, ndim) = cs
       else
-         m = matmul(quat_matrix(now%q), transpose(quat_matrix(ref%q)))
+         ! named temporaries: matmul of array results made gfortran -O3 warn of uninitialised descriptors
+         a = quat_matrix(now%q)
+         b = transpose(quat_matrix(ref%q))
+         m = matmul(a, b)
          r = unpad_block(m, ndim)
       end if
    end function rigid_rotation
@@ -156,12 +170,13 @@ contains
    pure function rigid_world_inertia(inertia, now, ref) result(iw)
       real(rp), intent(in) :: inertia(nrot, nrot)
       type(pose_t), intent(in) :: now, ref
-      real(rp) :: iw(nrot, nrot), m(3, 3), rm(3, 3)
+      real(rp) :: iw(nrot, nrot), m(3, 3), rm(3, 3), i3(3, 3)
       if (ndim == 2) then
          iw = inertia
       else
          rm = pad_matrix(rigid_rotation(now, ref))
-         m = matmul(rm, matmul(pad_matrix(inertia), transpose(rm)))
+         i3 = pad_matrix(inertia)
+         m = matmul(rm, matmul(i3, transpose(rm)))
          iw = unpad_block(m, nrot)
       end if
    end function rigid_world_inertia
@@ -183,12 +198,16 @@ contains
    !> omega and I omega point along z).
    pure function rigid_angular_accel(inertia, t, omega) result(alpha)
       real(rp), intent(in) :: inertia(nrot, nrot), t(nrot), omega(nrot)
-      real(rp) :: alpha(nrot), iw(3)
+      real(rp) :: alpha(nrot), iw(3), i3(3, 3), w3(3), j3(3, 3), r3(3)
       if (ndim == 2) then
          alpha = t/inertia(1, 1)
       else
-         iw = matmul(pad_matrix(inertia), pad3(omega))
-         alpha = unpad(matmul(inverse3(pad_matrix(inertia)), pad3(t) - cross3(pad3(omega), iw)), nrot)
+         i3 = pad_matrix(inertia)
+         w3 = pad3(omega)
+         iw = matmul(i3, w3)
+         j3 = inverse3(i3)
+         r3 = pad3(t) - cross3(w3, iw)
+         alpha = unpad(matmul(j3, r3), nrot)
       end if
    end function rigid_angular_accel
 

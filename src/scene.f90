@@ -4,10 +4,10 @@ module scene
    use kinds, only: rp
    use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, ndim, nsec
    use input, only: case_cfg
-   use input_body, only: body_cfg, body_zrange
+   use input_body, only: body_cfg, body_zrange, body_turn, body_tilted
    use body_shapes, only: body_outline, body_mass_properties, body_particles
    use body_dynamics, only: body_t
-   use rigid, only: rigid_set_angle_z, nrot, ndof
+   use rigid, only: rigid_set_angle_z, rigid_tilt, nrot, ndof
    use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, role_filter, wall_fixed, &
                       integ_verlet, bnd_mdbc
    use input_geometry, only: geom_object, geom_zrange
@@ -36,6 +36,10 @@ module scene
    type :: outline_t
       real(rp), allocatable :: v(:, :)
       real(rp) :: zr(2) = [-huge(1.0_rp), huge(1.0_rp)]   !< 3D: its extent across the width [m]
+      !> 3D, a box turned out of the section: the hole is the box itself (centre c, half
+      !> sides half in its own frame, turn from that frame), not its shadow's extrusion
+      logical :: box = .false.
+      real(rp) :: c(3) = 0.0_rp, half(3) = 0.0_rp, turn(3, 3) = 0.0_rp
    end type outline_t
 
 contains
@@ -64,6 +68,14 @@ contains
       do k = 1, size(c%bodies)
          holes(k)%v = body_outline(c%bodies(k))
          if (ndim == 3) holes(k)%zr = body_zrange(c%bodies(k))
+         if (ndim == 3 .and. body_tilted(c%bodies(k))) then
+            associate (bc => c%bodies(k))
+               holes(k)%box = .true.
+               holes(k)%c = [bc%x, bc%y, bc%z]
+               holes(k)%half = 0.5_rp*[bc%width, bc%height, bc%depth]
+               holes(k)%turn = body_turn(bc)
+            end associate
+         end if
       end do
       por = scene_porous(c)
       zdom = [c%domain%zmin, c%domain%zmax]
@@ -183,12 +195,17 @@ contains
       b%motion = bc%motion_id  ! the values of options: motion_floating, motion_fixed, motion_prescribed
       b%id = id
       call rigid_set_angle_z(b%pose, bc%angle*deg)
+      if (body_tilted(bc)) call rigid_tilt(b%pose, bc%angle_x*deg, bc%angle_y*deg)
       b%pose_start = b%pose
       if (b%motion /= motion_fixed) then
          ! in 3D the body starts moving in the section (x, y) and turning about z
          b%v = 0.0_rp; b%v(1:nsec) = [bc%u, bc%v]
          if (ndim == 3) b%v(ndim) = bc%w
          b%omega = 0.0_rp; b%omega(nrot) = bc%omega
+         if (ndim == 3) then   ! about x and y (the index written so that it is in range in 2D too)
+            b%omega(1) = bc%omega_x
+            b%omega(max(nrot - 1, 1)) = bc%omega_y
+         end if
       end if
       if (b%motion == motion_prescribed) then
          b%rate = 0.0_rp; b%amp = 0.0_rp
@@ -204,7 +221,10 @@ contains
       b%m_surf = b%mass/max(count(surf > 0), 1)
       b%rbound = maxval(norm2(xb, dim=1)) + 0.5_rp*dp
       b%outline = body_outline(bc)
-      if (ndim == 3) b%zhalf = 0.5_rp*bc%depth
+      if (ndim == 3) then
+         b%half = 0.5_rp*[bc%width, bc%height, bc%depth]
+         b%turn = body_turn(bc)
+      end if
       do k = 1, size(b%outline, 2)
          b%outline(:, k) = b%outline(:, k) - b%pose%c(1:nsec)
       end do
@@ -341,10 +361,24 @@ contains
       do h = 1, size(holes)
          if (ndim == 3) then
             if (pt(ndim) < holes(h)%zr(1) - 0.499_rp*dp .or. pt(ndim) > holes(h)%zr(2) + 0.499_rp*dp) cycle
+            if (holes(h)%box) then
+               ! within 0.499 dp of the turned box
+               in_hole = in_hole .or. norm2(max(abs(matmul(pad(pt) - holes(h)%c, holes(h)%turn)) - holes(h)%half, &
+                                                0.0_rp)) < 0.499_rp*dp
+               cycle
+            end if
          end if
          in_hole = in_hole .or. point_in_polygon(pt(1:nsec), holes(h)%v) .or. &
                    distance_to_polygon(pt(1:nsec), holes(h)%v) < 0.499_rp*dp
       end do
+   contains
+      !> A point of ndim components as three.
+      pure function pad(x) result(y)
+         real(rp), intent(in) :: x(ndim)
+         real(rp) :: y(3)
+         y = 0.0_rp
+         y(1:ndim) = x
+      end function pad
    end function in_hole
 
    !> Water in the pores: where a porous region covers a fluid object, a

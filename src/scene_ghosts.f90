@@ -595,21 +595,25 @@ contains
    end function nearest_on_faces
 
    !> The nearest point to x (in the body frame) of a body's surface: its
-   !> outline, in 3D extruded over its depth, with its two end faces.
+   !> outline; in 3D the faces of its box, from the box's own frame (of faces
+   !> equally near, the first along x, y, z).
    pure function nearest_on_body(x, b) result(q)
       real(rp), intent(in) :: x(ndim)
       type(body_t), intent(in) :: b
-      real(rp) :: q(ndim), y(ndim)
-      integer :: s
-      q(1:nsec) = nearest_on_outline(x(1:nsec), b%outline)
-      if (ndim == 2) return
-      q(ndim) = min(max(x(ndim), -b%zhalf), b%zhalf)
-      if (.not. point_in_polygon(x(1:nsec), b%outline)) return
-      do s = -1, 1, 2
-         y = x
-         y(ndim) = s*b%zhalf
-         if (norm2(y - x) < norm2(q - x)) q = y
-      end do
+      real(rp) :: q(ndim), y(3), gap(3)
+      integer :: a
+      if (ndim == 2) then
+         q(1:nsec) = nearest_on_outline(x(1:nsec), b%outline)
+         return
+      end if
+      y = 0.0_rp
+      y(1:ndim) = x
+      y = matmul(y, b%turn)
+      gap = b%half - abs(y)
+      a = minloc(gap, dim=1)
+      y(a) = sign(b%half(a), y(a))
+      y = matmul(b%turn, y)
+      q = y(1:ndim)
    end function nearest_on_body
 
    !> The nearest point to x of a closed outline.
