@@ -11,7 +11,8 @@ module body_shapes
    use constants, only: pi, ndim, nsec
    use rigid, only: nrot
    use input_body, only: body_cfg, body_turn, body_tilted
-   use options, only: shape_circle, shape_box, shape_wedge, shape_polygon
+   use options, only: shape_circle, shape_box, shape_wedge, shape_polygon, shape_stl
+   use geom_stl, only: stl_t, stl_props, stl_inside, stl_nearest, stl_bounds
    implicit none
    private
    public :: body_outline, body_mass_properties, body_particles
@@ -42,6 +43,8 @@ contains
          do k = 1, circle_sides
             v(:, k) = [c%x, c%y] + c%radius*[cos(2*pi*(k - 1)/circle_sides), sin(2*pi*(k - 1)/circle_sides)]
          end do
+      case (shape_stl)
+         v = mesh_shadow(c)
       case (shape_box)
          if (ndim == 3 .and. body_tilted(c)) then
             v = box_shadow(c)
@@ -72,24 +75,57 @@ contains
    end function body_outline
 
    !> The outline (counter-clockwise) of the shadow of a turned box on the
-   !> section: the convex hull of its eight corners' (x, y), by the monotone
-   !> chain.
+   !> section: the convex hull of its eight corners' (x, y).
    function box_shadow(c) result(v)
       type(body_cfg), intent(in) :: c
       real(rp), allocatable :: v(:, :)
       integer, parameter :: ncorner = 8           !< a box's corners
-      real(rp) :: r(3, 3), p(2, ncorner), t(2), hull(2, 2*ncorner)
-      integer :: i, j, k, n
+      real(rp) :: r(3, 3), p(2, ncorner)
+      integer :: i
       r = body_turn(c)
-      k = 0
       do i = 0, ncorner - 1
-         k = k + 1
-         p(:, k) = [c%x, c%y] + matmul(r(1:2, :), 0.5_rp*[c%width*merge(1, -1, btest(i, 0)), &
-                                                          c%height*merge(1, -1, btest(i, 1)), &
-                                                          c%depth*merge(1, -1, btest(i, 2))])
+         p(:, i + 1) = [c%x, c%y] + matmul(r(1:2, :), 0.5_rp*[c%width*merge(1, -1, btest(i, 0)), &
+                                                              c%height*merge(1, -1, btest(i, 1)), &
+                                                              c%depth*merge(1, -1, btest(i, 2))])
       end do
+      v = convex_hull(p)
+   end function box_shadow
+
+   !> The outline (counter-clockwise) of the shadow of a turned mesh on the
+   !> section: the convex hull of its vertices' (x, y).
+   function mesh_shadow(c) result(v)
+      type(body_cfg), intent(in) :: c
+      real(rp), allocatable :: v(:, :), p(:, :)
+      real(rp) :: r(3, 3)
+      integer :: t, k, ist
+      character(len=200) :: emsg
+      r = body_turn(c)
+      allocate (p(2, 3*c%mesh%nt), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'the shadow of a mesh')
+      do t = 1, c%mesh%nt
+         do k = 1, 3
+            p(:, 3*(t - 1) + k) = [c%x, c%y] + matmul(r(1:2, :), c%mesh%v(:, k, t))
+         end do
+      end do
+      v = convex_hull(p)
+   end function mesh_shadow
+
+   !> The convex hull (counter-clockwise, no point twice) of the points p(2, n), by the
+   !> monotone chain.
+   function convex_hull(p0) result(v)
+      real(rp), intent(in) :: p0(:, :)
+      real(rp), allocatable :: v(:, :)
+      real(rp), allocatable :: p(:, :), hull(:, :)
+      real(rp) :: t(2)
+      integer :: i, j, k, n, np, ist
+      character(len=200) :: emsg
+      np = size(p0, 2)
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (p(2, np), hull(2, 2*np), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'a convex hull')
+      p = p0
       ! sorted by x, then y
-      do i = 2, ncorner
+      do i = 2, np
          t = p(:, i)
          j = i - 1
          shift: do while (j >= 1)
@@ -100,29 +136,29 @@ contains
          p(:, j + 1) = t
       end do
       n = 0
-      do i = 1, ncorner                            ! the lower hull
+      do i = 1, np                                 ! the lower hull
          call push(p(:, i), 1)
       end do
       k = n
-      do i = ncorner - 1, 1, -1                    ! the upper hull
+      do i = np - 1, 1, -1                         ! the upper hull
          call push(p(:, i), k)
       end do
       v = hull(:, 1:n - 1)                         ! its last point is its first
    contains
-      !> p0 onto the hull, after dropping the points that would make a clockwise turn
+      !> p1 onto the hull, after dropping the points that would make a clockwise turn
       !> (the chain being built starts at n0).
-      subroutine push(p0, n0)
-         real(rp), intent(in) :: p0(2)
+      subroutine push(p1, n0)
+         real(rp), intent(in) :: p1(2)
          integer, intent(in) :: n0
          do while (n >= n0 + 1)
-            if ((hull(1, n) - hull(1, n - 1))*(p0(2) - hull(2, n - 1)) - &
-                (hull(2, n) - hull(2, n - 1))*(p0(1) - hull(1, n - 1)) > 0.0_rp) exit
+            if ((hull(1, n) - hull(1, n - 1))*(p1(2) - hull(2, n - 1)) - &
+                (hull(2, n) - hull(2, n - 1))*(p1(1) - hull(1, n - 1)) > 0.0_rp) exit
             n = n - 1
          end do
          n = n + 1
-         hull(:, n) = p0
+         hull(:, n) = p1
       end subroutine push
-   end function box_shadow
+   end function convex_hull
 
    !> Signed area and centroid of a polygon.
    pure subroutine polygon_props(v, area, cen)
@@ -150,7 +186,11 @@ contains
       real(rp), intent(out) :: mass, cen(ndim), inertia(nrot, nrot)
       real(rp) :: area, j0, rho
       if (ndim == 3) then
-         call box_mass_properties(c, mass, cen, inertia)
+         if (c%shape_id == shape_stl) then
+            call mesh_mass_properties(c, mass, cen, inertia)
+         else
+            call box_mass_properties(c, mass, cen, inertia)
+         end if
          return
       end if
       if (c%shape_id == shape_circle) then
@@ -165,6 +205,24 @@ contains
       mass = rho*area
       inertia(1, 1) = rho*j0
    end subroutine body_mass_properties
+
+   !> A mesh in 3D (its own frame: the centroid at the origin), turned by the
+   !> start angles: mass from the density (or given) and the enclosed volume,
+   !> centre (x, y, z), the inertia tensor R I R^T of the solid the mesh encloses.
+   subroutine mesh_mass_properties(c, mass, cen, inertia)
+      type(body_cfg), intent(in) :: c
+      real(rp), intent(out) :: mass, cen(ndim), inertia(nrot, nrot)
+      real(rp) :: vol, rho, c3(3), j(3, 3), r3(3, 3), cen3(3)
+      call stl_props(c%mesh, vol, c3, j)
+      rho = c%density
+      if (c%mass > 0.0_rp) rho = c%mass/vol
+      mass = rho*vol
+      cen3 = [c%x, c%y, c%z]
+      cen = cen3(1:ndim)
+      r3 = body_turn(c)
+      j = rho*matmul(r3, matmul(j, transpose(r3)))
+      inertia = j(1:nrot, 1:nrot)
+   end subroutine mesh_mass_properties
 
    !> A box in 3D: width along x, height along y, depth along z in its own frame,
    !> turned by its angle about z; mass from the density (or given), the centre
@@ -242,6 +300,91 @@ contains
       surf = surf(1:m)
    end subroutine box_particles
 
+   !> The boundary particles of an STL body in its own frame turned by the start
+   !> angles (centre at the origin): the points of a lattice dp apart along the
+   !> mesh's own axes, half a spacing in from its bounding box, inside the mesh
+   !> and less than layers spacings from its surface; the normal, that of the
+   !> nearest triangle, or at an edge or a corner (triangles within dp/2 of the
+   !> particle whose normals differ by more than 30 degrees) the mean of their
+   !> normals; surf 1 on a face, 2 on an edge or a corner (outer layer: within
+   !> dp of the surface), 0 deeper.
+   subroutine mesh_particles(c, dp, layers, xb, nb, surf)
+      type(body_cfg), intent(in) :: c
+      real(rp), intent(in) :: dp
+      integer, intent(in) :: layers
+      real(rp), allocatable, intent(out) :: xb(:, :), nb(:, :)
+      integer, allocatable, intent(out) :: surf(:)
+      real(rp) :: lo(3), hi(3), pos(3), q(3), nrm(3), r3(3, 3), d, nsum(3)
+      integer :: nn(3), i, j, k, m, ist, nfaces
+      character(len=200) :: emsg
+      call stl_bounds(c%mesh, lo, hi)
+      nn = max(1, int((hi - lo)/dp))
+      ! the lattice centred in the bounding box
+      lo = 0.5_rp*(lo + hi) - 0.5_rp*nn*dp
+      r3 = body_turn(c)
+      ! allow(multiple-allocations-with-stat): any of them refused is the same stop
+      allocate (xb(ndim, product(nn)), nb(ndim, product(nn)), surf(product(nn)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'xb, nb, surf in mesh_particles')
+      m = 0
+      do k = 1, nn(3)
+         do j = 1, nn(2)
+            lattice: do i = 1, nn(1)
+               pos = lo + ([i, j, k] - 0.5_rp)*dp
+               call stl_nearest(c%mesh, pos, q, nrm)
+               d = norm2(q - pos)
+               if (d >= layers*dp) cycle lattice
+               if (.not. stl_inside(c%mesh, pos)) cycle lattice
+               call edge_normals(pos, nrm, nsum, nfaces)
+               m = m + 1
+               xb(:, m) = matmul(r3(1:ndim, :), pos)
+               nb(:, m) = matmul(r3(1:ndim, :), nsum/norm2(nsum))
+               surf(m) = 0
+               if (d < dp) surf(m) = merge(1, 2, nfaces == 1)
+            end do lattice
+         end do
+      end do
+      if (m == 0) then
+         call fatal('mesh_particles: no lattice point inside the mesh (the input check should have refused it)')
+      end if
+      xb = xb(:, 1:m)
+      nb = nb(:, 1:m)
+      surf = surf(1:m)
+   contains
+      !> The sum of the distinct normals (more than 30 degrees apart) of the
+      !> triangles within dp/2 of the nearest one's distance from x, and how many.
+      subroutine edge_normals(x, n0, ns, nf)
+         real(rp), intent(in) :: x(3), n0(3)
+         real(rp), intent(out) :: ns(3)
+         integer, intent(out) :: nf
+         real(rp) :: y(3), n1(3), dist0, e(3, 3)
+         integer :: t
+         ns = n0
+         nf = 1
+         e(:, 1) = n0
+         dist0 = d
+         do t = 1, c%mesh%nt
+            call triangle_point(c%mesh%v(:, :, t), x, y, n1)
+            if (norm2(y - x) > dist0 + 0.5_rp*dp) cycle
+            if (any(matmul(n1, e(:, 1:nf)) > cos(pi/6.0_rp))) cycle
+            if (nf == 3) cycle
+            nf = nf + 1
+            e(:, nf) = n1
+            ns = ns + n1
+         end do
+      end subroutine edge_normals
+   end subroutine mesh_particles
+
+   !> The nearest point y of the triangle v(:, 1:3) to x, and its unit normal n.
+   pure subroutine triangle_point(v, x, y, n)
+      real(rp), intent(in) :: v(3, 3), x(3)
+      real(rp), intent(out) :: y(3), n(3)
+      type(stl_t) :: one
+      one%nt = 1
+      allocate (one%v(3, 3, 1))
+      one%v(:, :, 1) = v
+      call stl_nearest(one, x, y, n)
+   end subroutine triangle_point
+
    !> Area, centroid and polar second moment of area about the centroid.
    pure subroutine polygon_moments(v, area, cen, j0)
       real(rp), intent(in) :: v(:, :)
@@ -276,7 +419,11 @@ contains
       integer :: ist
       character(len=200) :: emsg
       if (ndim == 3) then
-         call box_particles(c, dp, layers, xb, nb, surf)
+         if (c%shape_id == shape_stl) then
+            call mesh_particles(c, dp, layers, xb, nb, surf)
+         else
+            call box_particles(c, dp, layers, xb, nb, surf)
+         end if
          return
       end if
       call body_mass_properties(c, mass, cen, inertia)

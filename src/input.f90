@@ -25,7 +25,7 @@ module input
    use options, only: role_fluid, role_filter, model_dynamic, wall_wavemaker, wave_regular, wave_file, paddle_piston, &
                       gauge_pressure, &
                       integ_verlet, kgc_shepard, kgc_gradient, bnd_repulsive, bnd_mdbc, visc_laminar_sps, shift_none, &
-                      bnd_dynamic, core_porous
+                      bnd_dynamic, core_porous, shape_stl
    implicit none
    private
    public :: case_cfg, read_case, write_case
@@ -135,6 +135,8 @@ contains
          ! any way, it must stay narrower than the width
          associate (b => c%bodies(k))
             d = sqrt(b%width**2 + b%height**2 + b%depth**2) + c%numerics%dp
+            ! a mesh: twice its farthest vertex from the centroid
+            if (b%shape_id == shape_stl) d = 2.0_rp*maxval(norm2(b%mesh%v, dim=1)) + c%numerics%dp
             if (d >= w) call input_error(c%file, 'body #'//int_str(k), 'width, height, depth', &
                'with periodic_z a body must be narrower than the width turned any way: its diagonal plus dp, '// &
                real_str(d)//' m, must be less than zmax - zmin = '//real_str(w)//' m')

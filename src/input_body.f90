@@ -2,14 +2,15 @@
 !> bodies and between a body and a wall.
 module input_body
    use kinds, only: rp
-   use constants, only: name_len, msg_len, pi, ndim
+   use constants, only: name_len, msg_len, path_len, pi, ndim
+   use geom_stl, only: stl_t, stl_read, stl_props, stl_bounds
    use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, group_count, &
                           int_str, real_str
    use errors, only: input_error, alloc_check
    use geom, only: polygon_area, polygon_self_intersects
    use options, only: contact_names, model_spring, model_noncohesive, model_hertz, model_dynamic, option_index, &
                       shape_names, shape_circle, &
-                      shape_box, shape_wedge, shape_polygon, &
+                      shape_box, shape_wedge, shape_polygon, shape_stl, &
                       body_motion_names, motion_floating, motion_prescribed
    implicit none
    private
@@ -29,6 +30,12 @@ module input_body
       !> 3D: initial turns about x and about y [deg], taken before angle (about z): R = Rz Ry Rx
       real(rp) :: angle_x = 0.0_rp, angle_y = 0.0_rp
       real(rp) :: omega_x = 0.0_rp, omega_y = 0.0_rp   !< 3D, floating: initial angular velocity about x and y [rad/s]
+      !> 3D, shape = 'stl': the mesh's file (stl_file, relative to the case file's folder), its
+      !> coordinates' unit in metres (stl_scale), and the mesh itself, read at input, in its own frame
+      !> with its centroid at the origin (the centroid goes to (x, y, z))
+      character(len=path_len) :: file = ''
+      real(rp) :: scale = 1.0_rp
+      type(stl_t) :: mesh
       integer :: nvert = 0                             !< polygon / wedge vertices
       real(rp) :: vx(body_max_vert) = 0.0_rp, vy(body_max_vert) = 0.0_rp
       real(rp) :: density = 0.0_rp                     !< [kg/m3]; or
@@ -69,13 +76,14 @@ module input_body
    type(body_cfg) :: dflt
    character(len=name_len) :: shape, motion, model
    real(rp) :: x, y, radius, width, height, angle, density, mass, u, v, omega, mu, restitution, young, poisson
-   real(rp) :: z, depth, w, angle_x, angle_y, omega_x, omega_y
+   real(rp) :: z, depth, w, angle_x, angle_y, omega_x, omega_y, stl_scale
+   character(len=path_len) :: stl_file
    real(rp) :: amplitude_x, amplitude_y, amplitude_angle, period, phase
    real(rp) :: vx(body_max_vert), vy(body_max_vert)
    integer :: nvert, layers
    namelist /body/ shape, x, y, radius, width, height, angle, nvert, vx, vy, density, mass, motion, u, v, &
       omega, amplitude_x, amplitude_y, amplitude_angle, period, phase, mu, restitution, young, poisson, layers, z, depth, w, &
-      angle_x, angle_y, omega_x, omega_y
+      angle_x, angle_y, omega_x, omega_y, stl_file, stl_scale
    real(rp) :: r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier, core_overlap
    namelist /contact/ model, r_f, b, c0, q0, stick_velocity, stick_length, impact, barrier, core_overlap
 
@@ -90,6 +98,7 @@ contains
       amplitude_x = c%amplitude_x; amplitude_y = c%amplitude_y; amplitude_angle = c%amplitude_angle
       period = c%period; phase = c%phase; z = c%z; depth = c%depth; w = c%w
       angle_x = c%angle_x; angle_y = c%angle_y; omega_x = c%omega_x; omega_y = c%omega_y
+      stl_file = c%file; stl_scale = c%scale
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -101,6 +110,7 @@ contains
       c%amplitude_x = amplitude_x; c%amplitude_y = amplitude_y; c%amplitude_angle = amplitude_angle
       c%period = period; c%phase = phase; c%z = z; c%depth = depth; c%w = w
       c%angle_x = angle_x; c%angle_y = angle_y; c%omega_x = omega_x; c%omega_y = omega_y
+      c%file = stl_file; c%scale = stl_scale
    end subroutine from_vars
 
    subroutine read_bodies(file, dp, bodies)
@@ -148,6 +158,8 @@ contains
                      'the outline has (almost) no area: at least 4 dp^2 is needed')
                   if (polygon_self_intersects(vv)) call input_error(file, g, 'vx, vy', 'the outline crosses itself')
                end block
+            case (shape_stl)
+               call read_mesh(file, g, dp, c)
             case default
                call input_error(file, g, 'shape', 'no checks for shape '//trim(c%shape))
             end select
@@ -178,6 +190,21 @@ contains
    pure function body_zrange(b) result(z)
       type(body_cfg), intent(in) :: b
       real(rp) :: z(2), r(3, 3), e
+      integer :: t, k
+      if (b%shape_id == shape_stl) then
+         ! the turned mesh's extent across the width
+         r = body_turn(b)
+         z = [huge(1.0_rp), -huge(1.0_rp)]
+         if (.not. allocated(b%mesh%v)) return
+         do t = 1, b%mesh%nt
+            do k = 1, 3
+               e = dot_product(r(3, :), b%mesh%v(:, k, t))
+               z = [min(z(1), e), max(z(2), e)]
+            end do
+         end do
+         z = b%z + z
+         return
+      end if
       if (body_tilted(b)) then
          ! the turned box's extent across the width
          r = body_turn(b)
@@ -187,6 +214,36 @@ contains
       end if
       z = b%z + 0.5_rp*[-b%depth, b%depth]
    end function body_zrange
+
+   !> The mesh of an STL body (3D), read and checked, moved to its own frame:
+   !> its centroid at the origin. It must hold at least the layers of particles
+   !> of a small body: 2 dp across its bounding box each way.
+   subroutine read_mesh(file, g, dp, c)
+      character(len=*), intent(in) :: file, g
+      real(rp), intent(in) :: dp
+      type(body_cfg), intent(inout) :: c
+      character(len=:), allocatable :: path
+      real(rp) :: vol, cen(3), inertia(3, 3), lo(3), hi(3)
+      integer :: t, k, slash
+      if (ndim == 2) call input_error(file, g, 'shape', 'an STL body is for the 3D build (build/mbsph3d)')
+      if (len_trim(c%file) == 0) call input_error(file, g, 'stl_file', "shape = 'stl' needs the mesh's file")
+      call check_real(file, g, 'stl_scale', c%scale, 1.0e-9_rp, 1.0e9_rp)
+      ! a relative path from the case file's folder
+      path = trim(c%file)
+      slash = index(file, '/', back=.true.)
+      if (path(1:1) /= '/' .and. slash > 0) path = file(1:slash)//path
+      call stl_read(path, c%scale, file, g, 'stl_file', c%mesh)
+      call stl_props(c%mesh, vol, cen, inertia)
+      do t = 1, c%mesh%nt
+         do k = 1, 3
+            c%mesh%v(:, k, t) = c%mesh%v(:, k, t) - cen
+         end do
+      end do
+      call stl_bounds(c%mesh, lo, hi)
+      if (minval(hi - lo) < 2.0_rp*dp) call input_error(file, g, 'stl_file', "the mesh of '"//trim(path)// &
+         "' is "//real_str(minval(hi - lo))//' m across at its thinnest: at least 2 dp = '//real_str(2.0_rp*dp)// &
+         ' m is needed (stl_scale: its unit in metres)')
+   end subroutine read_mesh
 
    !> Whether a body is turned about x or y at the start (3D).
    pure logical function body_tilted(b)
@@ -230,9 +287,9 @@ contains
       end if
       if (abs(c%w) > 0.0_rp .and. c%motion_id /= motion_floating) call input_error(file, g, 'w', &
          'a velocity across the width is for a floating body (a prescribed one moves in the section)')
-      if (c%shape_id /= shape_box) call input_error(file, g, 'shape', 'the 3D build has box bodies only yet '// &
-                                                    "(doc/3d.md): 'box'; got '"//trim(c%shape)//"'")
-      call check_real(file, g, 'depth', c%depth, 2.0_rp*dp, 1.0e4_rp)
+      if (c%shape_id /= shape_box .and. c%shape_id /= shape_stl) call input_error(file, g, 'shape', &
+         "the 3D build has box and STL bodies (doc/3d.md): 'box' or 'stl'; got '"//trim(c%shape)//"'")
+      if (c%shape_id == shape_box) call check_real(file, g, 'depth', c%depth, 2.0_rp*dp, 1.0e4_rp)
       call check_real(file, g, 'angle_x', c%angle_x, -360.0_rp, 360.0_rp)
       call check_real(file, g, 'angle_y', c%angle_y, -360.0_rp, 360.0_rp)
       call check_real(file, g, 'omega_x', c%omega_x, -1.0e3_rp*pi, 1.0e3_rp*pi)

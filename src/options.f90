@@ -22,7 +22,7 @@ module options
    public :: contact_names, model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
    public :: role_names, role_solid, role_fluid, role_filter
    public :: wall_motion_names, wall_fixed, wall_oscillate, wall_wavemaker
-   public :: shape_names, shape_circle, shape_box, shape_wedge, shape_polygon
+   public :: shape_names, shape_circle, shape_box, shape_wedge, shape_polygon, shape_stl
    public :: body_motion_names, motion_floating, motion_fixed, motion_prescribed
    public :: paddle_names, paddle_piston, paddle_flap
    public :: wave_names, wave_regular, wave_irregular, wave_file
@@ -72,8 +72,8 @@ module options
    integer, parameter :: wall_fixed = 1, wall_oscillate = 2, wall_wavemaker = 3
    !> &body shape
    character(len=name_len), parameter :: shape_names(*) = [character(len=name_len) :: 'circle', 'box', 'wedge', &
-                                                           'polygon']
-   integer, parameter :: shape_circle = 1, shape_box = 2, shape_wedge = 3, shape_polygon = 4
+                                                           'polygon', 'stl']
+   integer, parameter :: shape_circle = 1, shape_box = 2, shape_wedge = 3, shape_polygon = 4, shape_stl = 5
    !> &body motion
    character(len=name_len), parameter :: body_motion_names(*) = [character(len=name_len) :: 'floating', 'fixed', &
                                                                  'prescribed']

@@ -9,7 +9,8 @@ module scene
    use body_dynamics, only: body_t
    use rigid, only: rigid_set_angle_z, rigid_tilt, nrot, ndof
    use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, role_filter, wall_fixed, &
-                      integ_verlet, bnd_mdbc
+                      integ_verlet, bnd_mdbc, shape_stl
+   use geom_stl, only: stl_t, stl_inside, stl_nearest
    use input_geometry, only: geom_object, geom_zrange
    use particles, only: particles_t, particles_grow, particles_fit
    use params, only: params_t
@@ -40,6 +41,9 @@ module scene
       !> sides half in its own frame, turn from that frame), not its shadow's extrusion
       logical :: box = .false.
       real(rp) :: c(3) = 0.0_rp, half(3) = 0.0_rp, turn(3, 3) = 0.0_rp
+      !> 3D, an STL body: the hole is the mesh itself (in its own frame, centre c, turn as above)
+      logical :: stl = .false.
+      type(stl_t) :: mesh
    end type outline_t
 
 contains
@@ -68,7 +72,14 @@ contains
       do k = 1, size(c%bodies)
          holes(k)%v = body_outline(c%bodies(k))
          if (ndim == 3) holes(k)%zr = body_zrange(c%bodies(k))
-         if (ndim == 3 .and. body_tilted(c%bodies(k))) then
+         if (ndim == 3 .and. c%bodies(k)%shape_id == shape_stl) then
+            associate (bc => c%bodies(k))
+               holes(k)%stl = .true.
+               holes(k)%mesh = bc%mesh
+               holes(k)%c = [bc%x, bc%y, bc%z]
+               holes(k)%turn = body_turn(bc)
+            end associate
+         else if (ndim == 3 .and. body_tilted(c%bodies(k))) then
             associate (bc => c%bodies(k))
                holes(k)%box = .true.
                holes(k)%c = [bc%x, bc%y, bc%z]
@@ -357,10 +368,20 @@ contains
       type(outline_t), intent(in) :: holes(:)
       type(porous_t), intent(in) :: por
       integer :: h
+      real(rp) :: own(3), q(3), nq(3)
       in_hole = in_pores(por, pt(1:nsec))
       do h = 1, size(holes)
          if (ndim == 3) then
             if (pt(ndim) < holes(h)%zr(1) - 0.499_rp*dp .or. pt(ndim) > holes(h)%zr(2) + 0.499_rp*dp) cycle
+            if (holes(h)%stl) then
+               ! inside the mesh or within 0.499 dp of it
+               own = matmul(pad(pt) - holes(h)%c, holes(h)%turn)
+               if (.not. in_hole) then
+                  call stl_nearest(holes(h)%mesh, own, q, nq)
+                  in_hole = stl_inside(holes(h)%mesh, own) .or. norm2(q - own) < 0.499_rp*dp
+               end if
+               cycle
+            end if
             if (holes(h)%box) then
                ! within 0.499 dp of the turned box
                in_hole = in_hole .or. norm2(max(abs(matmul(pad(pt) - holes(h)%c, holes(h)%turn)) - holes(h)%half, &

@@ -26,8 +26,10 @@ module scene_ghosts
    use kinds, only: rp
    use constants, only: kind_fluid, kind_filter, ndim, nsec
    use input, only: case_cfg
+   use input_body, only: body_cfg
+   use geom_stl, only: stl_nearest
    use input_geometry, only: geom_zrange
-   use options, only: role_solid
+   use options, only: role_solid, shape_stl
    use particles, only: particles_t
    use body_dynamics, only: body_t
    use geom, only: point_in_polygon, polygon_area
@@ -89,7 +91,7 @@ contains
          b = p%body(i) - nobj
          if (b >= 1) then
             ! a body: its own outline, in the body frame
-            q = nearest_on_body(p%xb(:, i), bodies(b))
+            q = nearest_on_body(p%xb(:, i), bodies(b), c%bodies(b))
             if (norm2(q - p%xb(:, i)) < 2.0_rp*h) p%gof(:, i) = 2.0_rp*(q - p%xb(:, i))
          else
             ! too deep for any water to see it: no ghost (and no search)
@@ -596,11 +598,12 @@ contains
 
    !> The nearest point to x (in the body frame) of a body's surface: its
    !> outline; in 3D the faces of its box, from the box's own frame (of faces
-   !> equally near, the first along x, y, z).
-   pure function nearest_on_body(x, b) result(q)
+   !> equally near, the first along x, y, z), or its mesh.
+   pure function nearest_on_body(x, b, bc) result(q)
       real(rp), intent(in) :: x(ndim)
       type(body_t), intent(in) :: b
-      real(rp) :: q(ndim), y(3), gap(3)
+      type(body_cfg), intent(in) :: bc
+      real(rp) :: q(ndim), y(3), gap(3), w(3), nw(3)
       integer :: a
       if (ndim == 2) then
          q(1:nsec) = nearest_on_outline(x(1:nsec), b%outline)
@@ -609,6 +612,13 @@ contains
       y = 0.0_rp
       y(1:ndim) = x
       y = matmul(y, b%turn)
+      if (bc%shape_id == shape_stl) then
+         ! the mesh's nearest point, in its own frame
+         call stl_nearest(bc%mesh, y, w, nw)
+         y = matmul(b%turn, w)
+         q = y(1:ndim)
+         return
+      end if
       gap = b%half - abs(y)
       a = minloc(gap, dim=1)
       y(a) = sign(b%half(a), y(a))
