@@ -5,7 +5,8 @@
 !> binary STL has the volume of the polyhedron (the same sum about its own
 !> centre) and, within the polyhedron's deficit (1.5 %), 4/3 pi r^3 and
 !> 2/5 V r^2; points inside and outside are told apart, and the nearest point
-!> of the surface and its normal are those of the face.
+!> of the surface and its normal are those of the face. The files are written
+!> under build/ (the unit tests run from the repository's root) and removed.
 program test_stl
    use, intrinsic :: iso_fortran_env, only: int16, int32, real32
    use kinds, only: rp
@@ -22,8 +23,8 @@ program test_stl
    ! the cube [0.1, 0.3] x [-0.1, 0.1] x [0, 0.2], its triangles wound inward
    call cube_triangles(a, [0.1_rp, -0.1_rp, 0.0_rp], tri)
    tri = tri(:, [1, 3, 2], :)
-   call write_ascii('test_stl_cube.stl', tri)
-   call stl_read('test_stl_cube.stl', 1.0_rp, 'case.nml', 'body #1', 'stl_file', m)
+   call write_ascii('build/test_stl_cube.stl', tri)
+   call stl_read('build/test_stl_cube.stl', 1.0_rp, 'case.nml', 'body #1', 'stl_file', m)
    call check(m%nt == 12, 'cube: 12 triangles read')
    call stl_props(m, vol, cen, jj)
    call check_close(vol, a**3, 1.0e-13_rp, 'cube: volume a^3 (wound inward, turned outward)')
@@ -39,7 +40,7 @@ program test_stl
    call check(maxval(abs(lo - [0.1_rp, -0.1_rp, 0.0_rp])) + maxval(abs(hi - [0.3_rp, 0.1_rp, 0.2_rp])) <= 1.0e-15_rp, &
               'cube: bounds')
    ! the same file scaled by 10
-   call stl_read('test_stl_cube.stl', 10.0_rp, 'case.nml', 'body #1', 'stl_file', m)
+   call stl_read('build/test_stl_cube.stl', 10.0_rp, 'case.nml', 'body #1', 'stl_file', m)
    call stl_props(m, vol, cen, jj)
    call check_close(vol, (10.0_rp*a)**3, 1.0e-13_rp, 'cube: scaled volume')
 
@@ -47,8 +48,8 @@ program test_stl
    r = 0.05_rp
    c0 = [1.0_rp, 2.0_rp, -0.5_rp]
    call icosphere(3, r, c0, tri)
-   call write_binary('test_stl_sphere.stl', tri)
-   call stl_read('test_stl_sphere.stl', 1.0_rp, 'case.nml', 'body #1', 'stl_file', m)
+   call write_binary('build/test_stl_sphere.stl', tri)
+   call stl_read('build/test_stl_sphere.stl', 1.0_rp, 'case.nml', 'body #1', 'stl_file', m)
    call check(m%nt == 1280, 'sphere: 1280 triangles read')
    call stl_props(m, vol, cen, jj)
    ! the polyhedron's volume summed about its own centre, as pyramids
@@ -68,9 +69,19 @@ program test_stl
               'sphere: outside')
    call stl_nearest(m, c0 + [0.5_rp*r, 0.0_rp, 0.0_rp], q, n)
    call check(abs(norm2(q - c0) - r) <= 0.02_rp*r .and. n(1) > 0.97_rp, 'sphere: nearest point on the surface, normal out')
+   call remove('build/test_stl_cube.stl')
+   call remove('build/test_stl_sphere.stl')
    call test_summary('test_stl')
 
 contains
+
+   !> The file at path deleted.
+   subroutine remove(path)
+      character(len=*), intent(in) :: path
+      integer :: u, ios
+      open (newunit=u, file=path, status='old', iostat=ios)
+      if (ios == 0) close (u, status='delete')
+   end subroutine remove
 
    function identity() result(e)
       real(rp) :: e(3, 3)
