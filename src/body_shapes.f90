@@ -12,7 +12,7 @@ module body_shapes
    use rigid, only: nrot
    use input_body, only: body_cfg, body_turn, body_tilted
    use options, only: shape_circle, shape_box, shape_wedge, shape_polygon, shape_stl
-   use geom_stl, only: stl_t, stl_props, stl_inside, stl_nearest, stl_bounds
+   use geom_stl, only: stl_props, stl_inside, stl_nearest, stl_bounds, stl_triangle_point, stl_sort_points
    implicit none
    private
    public :: body_outline, body_mass_properties, body_particles
@@ -116,24 +116,20 @@ contains
       real(rp), intent(in) :: p0(:, :)
       real(rp), allocatable :: v(:, :)
       real(rp), allocatable :: p(:, :), hull(:, :)
-      real(rp) :: t(2)
-      integer :: i, j, k, n, np, ist
+      integer, allocatable :: order(:)
+      integer :: i, k, n, np, ist
       character(len=200) :: emsg
       np = size(p0, 2)
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (p(2, np), hull(2, 2*np), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'a convex hull')
-      p = p0
+      if (ist /= 0) then  ! error stop: the compiler cannot know alloc_check stops
+         call alloc_check(ist, emsg, 'a convex hull')
+         error stop
+      end if
       ! sorted by x, then y
-      do i = 2, np
-         t = p(:, i)
-         j = i - 1
-         shift: do while (j >= 1)
-            if (p(1, j) < t(1) .or. (p(1, j) <= t(1) .and. p(2, j) <= t(2))) exit shift
-            p(:, j + 1) = p(:, j)
-            j = j - 1
-         end do shift
-         p(:, j + 1) = t
+      call stl_sort_points(p0, order)
+      do i = 1, np
+         p(:, i) = p0(:, order(i))
       end do
       n = 0
       do i = 1, np                                 ! the lower hull
@@ -301,8 +297,9 @@ contains
    end subroutine box_particles
 
    !> The boundary particles of an STL body in its own frame turned by the start
-   !> angles (centre at the origin): the points of a lattice dp apart along the
-   !> mesh's own axes, half a spacing in from its bounding box, inside the mesh
+   !> angles (centre at the origin): the points of a lattice of about dp along the
+   !> mesh's own axes, fitted to its bounding box as a box's lattice is to the box
+   !> (a whole number of spacings along each side, half a spacing in), inside the mesh
    !> and less than layers spacings from its surface; the normal, that of the
    !> nearest triangle, or at an edge or a corner (triangles within dp/2 of the
    !> particle whose normals differ by more than 30 degrees) the mean of their
@@ -314,13 +311,12 @@ contains
       integer, intent(in) :: layers
       real(rp), allocatable, intent(out) :: xb(:, :), nb(:, :)
       integer, allocatable, intent(out) :: surf(:)
-      real(rp) :: lo(3), hi(3), pos(3), q(3), nrm(3), r3(3, 3), d, nsum(3)
+      real(rp) :: lo(3), hi(3), pos(3), q(3), nrm(3), r3(3, 3), d, nsum(3), sp(3)
       integer :: nn(3), i, j, k, m, ist, nfaces
       character(len=200) :: emsg
       call stl_bounds(c%mesh, lo, hi)
-      nn = max(1, int((hi - lo)/dp))
-      ! the lattice centred in the bounding box
-      lo = 0.5_rp*(lo + hi) - 0.5_rp*nn*dp
+      nn = max(1, nint((hi - lo)/dp))
+      sp = (hi - lo)/nn
       r3 = body_turn(c)
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
       allocate (xb(ndim, product(nn)), nb(ndim, product(nn)), surf(product(nn)), stat=ist, errmsg=emsg)
@@ -329,12 +325,14 @@ contains
       do k = 1, nn(3)
          do j = 1, nn(2)
             lattice: do i = 1, nn(1)
-               pos = lo + ([i, j, k] - 0.5_rp)*dp
+               pos = lo + ([i, j, k] - 0.5_rp)*sp
                call stl_nearest(c%mesh, pos, q, nrm)
                d = norm2(q - pos)
                if (d >= layers*dp) cycle lattice
                if (.not. stl_inside(c%mesh, pos)) cycle lattice
                call edge_normals(pos, nrm, nsum, nfaces)
+               ! opposite faces as near (the middle of a thin wall): the nearest face's
+               if (norm2(nsum) < 0.5_rp) nsum = nrm
                m = m + 1
                xb(:, m) = matmul(r3(1:ndim, :), pos)
                nb(:, m) = matmul(r3(1:ndim, :), nsum/norm2(nsum))
@@ -344,7 +342,8 @@ contains
          end do
       end do
       if (m == 0) then
-         call fatal('mesh_particles: no lattice point inside the mesh (the input check should have refused it)')
+         ! read_mesh (input_body) refuses a mesh whose lattice holds no particle
+         call fatal('mesh_particles: no lattice point inside the mesh (internal error)')
       end if
       xb = xb(:, 1:m)
       nb = nb(:, 1:m)
@@ -363,8 +362,8 @@ contains
          e(:, 1) = n0
          dist0 = d
          do t = 1, c%mesh%nt
-            call triangle_point(c%mesh%v(:, :, t), x, y, n1)
-            if (norm2(y - x) > dist0 + 0.5_rp*dp) cycle
+            call stl_triangle_point(c%mesh%v(:, :, t), x, y, n1)
+            if (.not. norm2(n1) > 0.0_rp .or. norm2(y - x) > dist0 + 0.5_rp*dp) cycle
             if (any(matmul(n1, e(:, 1:nf)) > cos(pi/6.0_rp))) cycle
             if (nf == 3) cycle
             nf = nf + 1
@@ -373,17 +372,6 @@ contains
          end do
       end subroutine edge_normals
    end subroutine mesh_particles
-
-   !> The nearest point y of the triangle v(:, 1:3) to x, and its unit normal n.
-   pure subroutine triangle_point(v, x, y, n)
-      real(rp), intent(in) :: v(3, 3), x(3)
-      real(rp), intent(out) :: y(3), n(3)
-      type(stl_t) :: one
-      one%nt = 1
-      allocate (one%v(3, 3, 1))
-      one%v(:, :, 1) = v
-      call stl_nearest(one, x, y, n)
-   end subroutine triangle_point
 
    !> Area, centroid and polar second moment of area about the centroid.
    pure subroutine polygon_moments(v, area, cen, j0)

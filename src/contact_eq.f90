@@ -8,7 +8,7 @@ module contact_eq
    use params, only: params_t
    use particles, only: particles_t
    use body_dynamics, only: body_t, body_arm
-   use rigid, only: nrot, rigid_point_velocity
+   use rigid, only: nrot
    use options, only: model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
    use contact_state, only: contact_t, key_index, store_pair
    use contact_pair, only: pair_force, pair_friction, pair_viscous, velocity_at, contact_normal, partition_weight, &
@@ -129,37 +129,29 @@ contains
    end subroutine eq_apply
 
    !> The slip of the pair i, j from the two bodies' relative spin about the
-   !> normal n, at the pair's midpoint seen from the contact centre xc (3D).
+   !> normal n, at the pair's midpoint seen from the contact centre xc (3D:
+   !> ndim = nrot = 3; in 2D it is not called).
    pure function spin_slip(bodies, p, i, j, bi, bj, n, xc) result(v)
       type(body_t), intent(in) :: bodies(:)
       type(particles_t), intent(in) :: p
       integer, intent(in) :: i, j, bi, bj
       real(rp), intent(in) :: n(ndim), xc(ndim)
-      real(rp) :: v(ndim), w(nrot), xm(ndim), arm(ndim)
+      real(rp) :: v(ndim), xm(ndim), arm(ndim), w3(3), n3(3), a3(3), v3(3)
       integer :: b
-      w = 0.0_rp
-      if (bi > 0) w = w + bodies(bi)%omega
-      if (bj > 0) w = w - bodies(bj)%omega
+      w3 = 0.0_rp
+      if (bi > 0) w3(1:nrot) = w3(1:nrot) + bodies(bi)%omega
+      if (bj > 0) w3(1:nrot) = w3(1:nrot) - bodies(bj)%omega
       xm = 0.5_rp*(p%x(:, i) + p%x(:, j))
       b = max(bi, bj)
       arm = xm - xc
       ! with periodic sides the arms of the images nearest the body's centre
       if (b > 0) arm = body_arm(bodies(b), xm) - body_arm(bodies(b), xc)
-      v = rigid_point_velocity(spread(0.0_rp, 1, ndim), dot_product(pad_rot(w), n)*rot_part(n), arm)
-   contains
-      !> omega as a vector of ndim components (3D: nrot = ndim)
-      pure function pad_rot(x) result(y)
-         real(rp), intent(in) :: x(nrot)
-         real(rp) :: y(ndim)
-         y = 0.0_rp
-         y(1:min(nrot, ndim)) = x(1:min(nrot, ndim))
-      end function pad_rot
-      pure function rot_part(x) result(y)
-         real(rp), intent(in) :: x(ndim)
-         real(rp) :: y(nrot)
-         y = 0.0_rp
-         y(1:min(nrot, ndim)) = x(1:min(nrot, ndim))
-      end function rot_part
+      n3 = 0.0_rp
+      n3(1:ndim) = n
+      a3 = 0.0_rp
+      a3(1:ndim) = arm
+      v3 = dot_product(w3, n3)*[n3(2)*a3(3) - n3(3)*a3(2), n3(3)*a3(1) - n3(1)*a3(3), n3(1)*a3(2) - n3(2)*a3(1)]
+      v = v3(1:ndim)
    end function spin_slip
 
    !> R(psi)/A of Eq. 3: (1 - q)/sqrt(q + q0) times the barrier

@@ -18,7 +18,7 @@ module geom_stl
    use input_check, only: int_str
    implicit none
    private
-   public :: stl_t, stl_read, stl_props, stl_inside, stl_nearest, stl_bounds
+   public :: stl_t, stl_read, stl_props, stl_inside, stl_nearest, stl_bounds, stl_triangle_point, stl_sort_points
 
    !> A triangle mesh: v(:, k, t) is vertex k (1 to 3) of triangle t, wound
    !> counter-clockwise seen from outside.
@@ -115,9 +115,13 @@ contains
          read (u, '(a)', iostat=ios, iomsg=msg) text
          if (ios /= 0) exit
          line = line + 1
+         ! tabs as blanks, the keyword in any case
+         do k = 1, len_trim(text)
+            if (text(k:k) == achar(9)) text(k:k) = ' '
+         end do
          text = adjustl(text)
          k = index(text, ' ')
-         word = text(1:max(k - 1, 1))
+         word = lower(text(1:max(k - 1, 1)))
          if (word /= 'vertex') cycle
          read (text(k:), *, iostat=ios, iomsg=msg) x
          if (ios /= 0) call input_error(file, group, var, "'"//trim(path)//"' line "//int_str(line)// &
@@ -132,6 +136,8 @@ contains
          mesh%v(:, modulo(nv - 1, 3) + 1, (nv - 1)/3 + 1) = x
       end do
       close (u)
+      if (nv == 0) call input_error(file, group, var, "'"//trim(path)//"' has no 'vertex' lines: if it is a "// &
+         'binary STL, its size is not 84 + 50 x the triangle count in its header (a file cut short?)')
       if (modulo(nv, 3) /= 0) call input_error(file, group, var, "'"//trim(path)//"': "//int_str(nv)// &
                                                ' vertices, not three to each facet')
       mesh%nt = nv/3
@@ -184,7 +190,7 @@ contains
          error stop
       end if
       key = reshape(mesh%v, [3, n])
-      call sort_points(key, order)
+      call stl_sort_points(key, order)
       ! the vertices numbered in sorted order, equal coordinates one number
       m = 1
       id(order(1)) = 1
@@ -218,7 +224,7 @@ contains
       key(1, :) = real(abs(e(1, :)), rp)
       key(2, :) = real(e(2, :), rp)
       key(3, :) = 0.0_rp
-      call sort_points(key, order)
+      call stl_sort_points(key, order)
       nbad = 0
       k = 1
       do while (k <= n)
@@ -234,8 +240,9 @@ contains
       end do
    end function count_unpaired
 
-   !> The order of the points x(:, k) sorted by x, then y, then z (merge sort).
-   subroutine sort_points(x, order)
+   !> The order of the points x(:, k) sorted by their first coordinate, then the
+   !> second, and so on (merge sort).
+   subroutine stl_sort_points(x, order)
       real(rp), intent(in) :: x(:, :)
       integer, allocatable, intent(out) :: order(:)
       integer, allocatable :: tmp(:)
@@ -286,7 +293,7 @@ contains
             if (x(d, a) > x(d, b)) return
          end do
       end function before
-   end subroutine sort_points
+   end subroutine stl_sort_points
 
    !> Volume, centroid and the inertia tensor about the centroid per unit
    !> density of the solid the mesh encloses: sums over the tetrahedra from the
@@ -350,22 +357,33 @@ contains
       type(stl_t), intent(in) :: mesh
       real(rp), intent(in) :: x(3)
       real(rp), intent(out) :: q(3), n(3)
-      real(rp) :: y(3), d2, best
+      real(rp) :: y(3), c(3), d2, best
       integer :: t
       best = huge(1.0_rp)
       q = x
       n = 0.0_rp
       do t = 1, mesh%nt
-         y = nearest_on_triangle(x, mesh%v(:, 1, t), mesh%v(:, 2, t), mesh%v(:, 3, t))
+         call stl_triangle_point(mesh%v(:, :, t), x, y, c)
+         ! a triangle of no area has no normal: its points are its neighbours' too
+         if (.not. norm2(c) > 0.0_rp) cycle
          d2 = sum((y - x)**2)
          if (d2 < best) then
             best = d2
             q = y
-            n = cross(mesh%v(:, 2, t) - mesh%v(:, 1, t), mesh%v(:, 3, t) - mesh%v(:, 1, t))
+            n = c
          end if
       end do
-      if (norm2(n) > 0.0_rp) n = n/norm2(n)
    end subroutine stl_nearest
+
+   !> The nearest point y of the triangle v(:, 1:3) to x, and its outward unit
+   !> normal n (0 for a triangle of no area).
+   pure subroutine stl_triangle_point(v, x, y, n)
+      real(rp), intent(in) :: v(3, 3), x(3)
+      real(rp), intent(out) :: y(3), n(3)
+      y = nearest_on_triangle(x, v(:, 1), v(:, 2), v(:, 3))
+      n = cross(v(:, 2) - v(:, 1), v(:, 3) - v(:, 1))
+      if (norm2(n) > 0.0_rp) n = n/norm2(n)
+   end subroutine stl_triangle_point
 
    !> The smallest box (lo, hi) around the mesh.
    pure subroutine stl_bounds(mesh, lo, hi)
@@ -417,6 +435,17 @@ contains
       w = vc*den
       q = a + v*ab + w*ac
    end function nearest_on_triangle
+
+   !> s in lower case (ASCII).
+   pure function lower(s) result(t)
+      character(len=*), intent(in) :: s
+      character(len=len(s)) :: t
+      integer :: k
+      t = s
+      do k = 1, len(s)
+         if (s(k:k) >= 'A' .and. s(k:k) <= 'Z') t(k:k) = achar(iachar(s(k:k)) + 32)
+      end do
+   end function lower
 
    pure function cross(a, b) result(c)
       real(rp), intent(in) :: a(3), b(3)

@@ -3,7 +3,7 @@
 module input_body
    use kinds, only: rp
    use constants, only: name_len, msg_len, path_len, pi, ndim
-   use geom_stl, only: stl_t, stl_read, stl_props, stl_bounds
+   use geom_stl, only: stl_t, stl_read, stl_props, stl_bounds, stl_inside
    use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, group_count, &
                           int_str, real_str
    use errors, only: input_error, alloc_check
@@ -163,6 +163,8 @@ contains
             case default
                call input_error(file, g, 'shape', 'no checks for shape '//trim(c%shape))
             end select
+            if (c%shape_id /= shape_stl .and. len_trim(c%file) > 0) call input_error(file, g, 'stl_file', &
+               "a mesh's file is for shape = 'stl' (this body is '"//trim(c%shape)//"')")
             call check_real(file, g, 'angle', c%angle, -360.0_rp, 360.0_rp)
             if (c%motion_id == motion_floating .or. c%mass > 0.0_rp .or. c%density > 0.0_rp) then
                if (c%mass > 0.0_rp) then
@@ -243,7 +245,31 @@ contains
       if (minval(hi - lo) < 2.0_rp*dp) call input_error(file, g, 'stl_file', "the mesh of '"//trim(path)// &
          "' is "//real_str(minval(hi - lo))//' m across at its thinnest: at least 2 dp = '//real_str(2.0_rp*dp)// &
          ' m is needed (stl_scale: its unit in metres)')
+      if (.not. lattice_meets_mesh(c%mesh, lo, hi, dp)) call input_error(file, g, 'stl_file', 'no particle of '// &
+         "the lattice dp apart falls inside the mesh of '"//trim(path)//"': it is too thin for dp = "// &
+         real_str(dp)//' m')
+      if (max(c%width, c%height, c%depth) > 0.0_rp) call input_error(file, g, 'width, height, depth', &
+         "an STL body's size is its mesh's (stl_scale scales it): leave them out")
    end subroutine read_mesh
+
+   !> Whether a point of the body lattice (body_shapes: mesh_particles) lies inside the mesh.
+   logical function lattice_meets_mesh(mesh, lo, hi, dp) result(meets)
+      type(stl_t), intent(in) :: mesh
+      real(rp), intent(in) :: lo(3), hi(3), dp
+      integer :: nn(3), i, j, k
+      real(rp) :: sp(3)
+      nn = max(1, nint((hi - lo)/dp))
+      sp = (hi - lo)/nn
+      meets = .true.
+      do k = 1, nn(3)
+         do j = 1, nn(2)
+            do i = 1, nn(1)
+               if (stl_inside(mesh, lo + ([i, j, k] - 0.5_rp)*sp)) return
+            end do
+         end do
+      end do
+      meets = .false.
+   end function lattice_meets_mesh
 
    !> Whether a body is turned about x or y at the start (3D).
    pure logical function body_tilted(b)
@@ -278,11 +304,7 @@ contains
             'leave it out in 2D')
          if (abs(c%w) > 0.0_rp) call input_error(file, g, 'w', 'a velocity across the width is for the 3D build '// &
                                                  '(build/mbsph3d); leave it out in 2D')
-         if (body_tilted(c)) call input_error(file, g, trim(merge('angle_x', 'angle_y', abs(c%angle_x) > 0.0_rp)), &
-            'a turn out of the section is for the 3D build (build/mbsph3d); leave it out in 2D')
-         if (.not. (abs(c%omega_x) <= 0.0_rp .and. abs(c%omega_y) <= 0.0_rp)) call input_error(file, g, &
-            trim(merge('omega_x', 'omega_y', abs(c%omega_x) > 0.0_rp)), &
-            'a spin out of the section is for the 3D build (build/mbsph3d); leave it out in 2D')
+         call check_turns(file, g, c)
          return
       end if
       if (abs(c%w) > 0.0_rp .and. c%motion_id /= motion_floating) call input_error(file, g, 'w', &
@@ -290,15 +312,33 @@ contains
       if (c%shape_id /= shape_box .and. c%shape_id /= shape_stl) call input_error(file, g, 'shape', &
          "the 3D build has box and STL bodies (doc/3d.md): 'box' or 'stl'; got '"//trim(c%shape)//"'")
       if (c%shape_id == shape_box) call check_real(file, g, 'depth', c%depth, 2.0_rp*dp, 1.0e4_rp)
+      call check_turns(file, g, c)
+   end subroutine check_width
+
+   !> The turns and spins out of the section (angle_x, angle_y, omega_x,
+   !> omega_y): refused in 2D; in 3D within range, a spin for a floating body.
+   subroutine check_turns(file, g, c)
+      character(len=*), intent(in) :: file, g
+      type(body_cfg), intent(in) :: c
+      logical :: spins
+      ! written so that a NaN counts as given
+      spins = .not. (abs(c%omega_x) <= 0.0_rp .and. abs(c%omega_y) <= 0.0_rp)
+      if (ndim == 2) then
+         if (body_tilted(c)) call input_error(file, g, trim(merge('angle_x', 'angle_y', .not. abs(c%angle_x) <= 0.0_rp)), &
+            'a turn out of the section is for the 3D build (build/mbsph3d); leave it out in 2D')
+         if (spins) call input_error(file, g, trim(merge('omega_x', 'omega_y', .not. abs(c%omega_x) <= 0.0_rp)), &
+            'a spin out of the section is for the 3D build (build/mbsph3d); leave it out in 2D')
+         return
+      end if
       call check_real(file, g, 'angle_x', c%angle_x, -360.0_rp, 360.0_rp)
       call check_real(file, g, 'angle_y', c%angle_y, -360.0_rp, 360.0_rp)
       call check_real(file, g, 'omega_x', c%omega_x, -1.0e3_rp*pi, 1.0e3_rp*pi)
       call check_real(file, g, 'omega_y', c%omega_y, -1.0e3_rp*pi, 1.0e3_rp*pi)
-      if (.not. (abs(c%omega_x) <= 0.0_rp .and. abs(c%omega_y) <= 0.0_rp) .and. c%motion_id /= motion_floating) then
-         call input_error(file, g, trim(merge('omega_x', 'omega_y', abs(c%omega_x) > 0.0_rp)), &
-                          'a spin out of the section is for a floating body (a prescribed one turns about z)')
+      if (spins .and. c%motion_id /= motion_floating) then
+         call input_error(file, g, trim(merge('omega_x', 'omega_y', .not. abs(c%omega_x) <= 0.0_rp)), &
+                          "a spin out of the section is for a floating body (this one is '"//trim(c%motion)//"')")
       end if
-   end subroutine check_width
+   end subroutine check_turns
 
    !> The oscillation of a prescribed body: amplitudes, period and phase.
    subroutine check_oscillation(file, g, c)

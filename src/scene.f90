@@ -41,9 +41,11 @@ module scene
       !> sides half in its own frame, turn from that frame), not its shadow's extrusion
       logical :: box = .false.
       real(rp) :: c(3) = 0.0_rp, half(3) = 0.0_rp, turn(3, 3) = 0.0_rp
-      !> 3D, an STL body: the hole is the mesh itself (in its own frame, centre c, turn as above)
+      !> 3D, an STL body: the hole is the mesh itself (in its own frame, centre c, turn as above;
+      !> rmax: its farthest vertex from c)
       logical :: stl = .false.
       type(stl_t) :: mesh
+      real(rp) :: rmax = 0.0_rp
    end type outline_t
 
 contains
@@ -76,6 +78,7 @@ contains
             associate (bc => c%bodies(k))
                holes(k)%stl = .true.
                holes(k)%mesh = bc%mesh
+               holes(k)%rmax = maxval(norm2(bc%mesh%v, dim=1))
                holes(k)%c = [bc%x, bc%y, bc%z]
                holes(k)%turn = body_turn(bc)
             end associate
@@ -376,7 +379,7 @@ contains
             if (holes(h)%stl) then
                ! inside the mesh or within 0.499 dp of it
                own = matmul(pad(pt) - holes(h)%c, holes(h)%turn)
-               if (.not. in_hole) then
+               if (.not. in_hole .and. norm2(own) < holes(h)%rmax + 0.5_rp*dp) then
                   call stl_nearest(holes(h)%mesh, own, q, nq)
                   in_hole = stl_inside(holes(h)%mesh, own) .or. norm2(q - own) < 0.499_rp*dp
                end if
