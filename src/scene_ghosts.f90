@@ -211,22 +211,19 @@ contains
       real(rp), intent(in) :: z0, z1
       type(face_t), allocatable, intent(inout) :: faces(:)
       integer, intent(inout) :: nf
-      integer :: k, e, nv
-      real(rp) :: a(nsec), d(nsec), nrm(ndim)
+      integer :: k, e
+      real(rp) :: a(nsec), d(nsec), en(nsec), nrm(ndim)
+      logical :: ok
       do k = 1, size(c%objs)
          if (c%objs(k)%role_id /= role_solid) cycle
          if (.not. spans(c, k, pr%z)) cycle
-         associate (v => c%objs(k)%v)
-            nv = size(v, 2)
-            edges: do e = 1, nv
-               a = v(:, e)
-               d = v(:, modulo(e, nv) + 1) - a
-               if (norm2(d) <= 0.0_rp) cycle edges
-               nrm = 0.0_rp
-               nrm(1:nsec) = sign(1.0_rp, polygon_area(v))*[d(2), -d(1)]/norm2(d)
-               call open_runs(c, pr, a, d, nrm(1:nsec), nrm, z0, z1, faces, nf)
-            end do edges
-         end associate
+         edges: do e = 1, size(c%objs(k)%v, 2)
+            call outline_edge(c%objs(k)%v, e, a, d, en, ok)
+            if (.not. ok) cycle edges
+            nrm = 0.0_rp
+            nrm(1:nsec) = en
+            call open_runs(c, pr, a, d, en, nrm, z0, z1, faces, nf)
+         end do edges
       end do
    end subroutine side_faces
 
@@ -242,8 +239,9 @@ contains
       type(face_t), allocatable, intent(inout) :: faces(:)
       integer, intent(inout) :: nf
       type(probe_t) :: pr
-      integer :: k, e, nv
+      integer :: k, e
       real(rp) :: a(nsec), d(nsec), nrm(ndim), en(nsec)
+      logical :: ok
       nrm = 0.0_rp
       nrm(ndim) = s
       pr = probe_t(zc + s*1.0e-3_rp*c%numerics%dp, o)
@@ -253,20 +251,29 @@ contains
       do k = 1, size(c%objs)
          if (c%objs(k)%role_id /= role_solid) cycle
          if (k /= o .and. .not. spans(c, k, pr%z)) cycle
-         associate (v => c%objs(k)%v)
-            nv = size(v, 2)
-            edges: do e = 1, nv
-               a = v(:, e)
-               d = v(:, modulo(e, nv) + 1) - a
-               if (norm2(d) <= 0.0_rp) cycle edges
-               en = sign(1.0_rp, polygon_area(v))*[d(2), -d(1)]/norm2(d)
-               ! o's own edges: the open part lies inside o; another's: outside it
-               if (k == o) en = -en
-               call open_runs(c, pr, a, d, en, nrm, zc, zc, faces, nf)
-            end do edges
-         end associate
+         edges: do e = 1, size(c%objs(k)%v, 2)
+            call outline_edge(c%objs(k)%v, e, a, d, en, ok)
+            if (.not. ok) cycle edges
+            ! o's own edges: the open part lies inside o; another's: outside it
+            if (k == o) en = -en
+            call open_runs(c, pr, a, d, en, nrm, zc, zc, faces, nf)
+         end do edges
       end do
    end subroutine end_face
+
+   !> Edge e of the outline v: from a to a + d, its outward unit normal en;
+   !> ok false for an edge of no length.
+   pure subroutine outline_edge(v, e, a, d, en, ok)
+      real(rp), intent(in) :: v(:, :)
+      integer, intent(in) :: e
+      real(rp), intent(out) :: a(nsec), d(nsec), en(nsec)
+      logical, intent(out) :: ok
+      a = v(:, e)
+      d = v(:, modulo(e, size(v, 2)) + 1) - a
+      en = 0.0_rp
+      ok = norm2(d) > 0.0_rp
+      if (ok) en = sign(1.0_rp, polygon_area(v))*[d(2), -d(1)]/norm2(d)
+   end subroutine outline_edge
 
    !> Whether solid k spans z across the width (always in 2D).
    logical function spans(c, k, z)
