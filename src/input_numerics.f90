@@ -5,7 +5,8 @@ module input_numerics
    use input_check, only: open_case, read_failed, check_real, check_int, group_count
    use options, only: option_index, kernel_names, integ_names, visc_names, bnd_names, diff_names, kgc_names, &
                       kernel_wendland, integ_symplectic, visc_artificial, bnd_dynamic, bnd_repulsive, diff_none, &
-                      diff_fourtakas, kgc_none, kgc_gradient, slip_names, slip_wall, shift_names, shift_none
+                      diff_fourtakas, kgc_none, kgc_gradient, slip_names, slip_wall, shift_names, shift_none, &
+                      mass_names, mass_rho0
    use errors, only: input_error
    implicit none
    private
@@ -37,19 +38,22 @@ module input_numerics
       !> shifting: div r below it: the surface band, not shifted [-]; 0.95 of its value inside
       !> the water (ndim), the same band in 2D and 3D
       real(rp) :: shift_tfs = merge(1.9_rp, 2.85_rp, ndim == 2)
+      !> a water particle's mass: 'rho0' (rho0 dp^d) | 'hydrostatic' (its start density times dp^d)
+      character(len=name_len) :: particle_mass = 'rho0'
       ! the choices as their values in options, set where they are read
       integer :: kernel_id = kernel_wendland, integrator_id = integ_symplectic, viscosity_id = visc_artificial
       integer :: diffusion_id = diff_fourtakas, kgc_id = kgc_none, boundary_id = bnd_dynamic, slip_id = slip_wall
-      integer :: shift_id = shift_none
+      integer :: shift_id = shift_none, mass_id = mass_rho0
    end type numerics_cfg
 
    real(rp) :: dp, h_over_dp, cfl, dt_fixed, alpha, nu, cs_sps, ci_sps, delta, shift_coef, shift_tfs
-   character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction, boundary, mdbc_slip, shifting
+   character(len=name_len) :: kernel, integrator, viscosity, diffusion, kernel_correction, boundary, mdbc_slip, shifting, &
+      particle_mass
    integer :: verlet_every, shepard_every
    logical :: kgc_continuity
    namelist /numerics/ dp, h_over_dp, kernel, cfl, dt_fixed, integrator, verlet_every, viscosity, alpha, &
       nu, cs_sps, ci_sps, diffusion, delta, kernel_correction, shepard_every, kgc_continuity, boundary, mdbc_slip, &
-      shifting, shift_coef, shift_tfs
+      shifting, shift_coef, shift_tfs, particle_mass
 
 contains
 
@@ -61,6 +65,7 @@ contains
       diffusion = c%diffusion; delta = c%delta; kernel_correction = c%kernel_correction
       shepard_every = c%shepard_every; boundary = c%boundary; kgc_continuity = c%kgc_continuity
       mdbc_slip = c%mdbc_slip; shifting = c%shifting; shift_coef = c%shift_coef; shift_tfs = c%shift_tfs
+      particle_mass = c%particle_mass
    end subroutine to_vars
 
    subroutine from_vars(c)
@@ -71,6 +76,7 @@ contains
       c%diffusion = diffusion; c%delta = delta; c%kernel_correction = kernel_correction
       c%shepard_every = shepard_every; c%boundary = boundary; c%kgc_continuity = kgc_continuity
       c%mdbc_slip = mdbc_slip; c%shifting = shifting; c%shift_coef = shift_coef; c%shift_tfs = shift_tfs
+      c%particle_mass = particle_mass
    end subroutine from_vars
 
    subroutine read_numerics(file, c)
@@ -136,6 +142,8 @@ contains
       ! water into the walls)
       if (c%boundary_id == bnd_repulsive .and. c%shift_id /= shift_none) call input_error(file, 'numerics', &
          'shifting', "must be 'none' with boundary = 'repulsive' (got '"//trim(c%shifting)//"')")
+      c%mass_id = option_index(file, 'numerics', 'particle_mass', c%particle_mass, mass_names)
+      c%particle_mass = mass_names(c%mass_id)
    end subroutine read_numerics
 
    subroutine write_numerics(u, c)

@@ -19,6 +19,7 @@ module options
    public :: bnd_names, bnd_dynamic, bnd_repulsive, bnd_mdbc
    public :: slip_names, slip_wall, slip_noslip, slip_freeslip
    public :: shift_names, shift_none, shift_fickian
+   public :: mass_names, mass_rho0, mass_hydrostatic
    public :: contact_names, model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
    public :: role_names, role_solid, role_fluid, role_filter
    public :: wall_motion_names, wall_fixed, wall_oscillate, wall_wavemaker
@@ -55,6 +56,10 @@ module options
    !> &numerics shifting: particle shifting
    character(len=name_len), parameter :: shift_names(*) = [character(len=name_len) :: 'none', 'fickian']
    integer, parameter :: shift_none = 1, shift_fickian = 2
+   !> a water particle's mass: rho0 dp^d, or the density of its start depth times
+   !> dp^d, so that its volume m/rho is the dp^d it fills on the start lattice
+   character(len=name_len), parameter :: mass_names(*) = [character(len=name_len) :: 'rho0', 'hydrostatic']
+   integer, parameter :: mass_rho0 = 1, mass_hydrostatic = 2
    !> &contact model
    character(len=name_len), parameter :: contact_names(*) = [character(len=name_len) :: 'dynamic', 'repulsive', &
                                                              'noncohesive', 'noncohesive_spring', 'hertz']

@@ -9,7 +9,7 @@ module scene
    use body_dynamics, only: body_t
    use rigid, only: rigid_set_angle_z, rigid_tilt, nrot, ndof
    use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, role_filter, wall_fixed, &
-                      integ_verlet, bnd_mdbc, shape_stl
+                      integ_verlet, bnd_mdbc, shape_stl, mass_hydrostatic
    use geom_stl, only: stl_t, stl_inside, stl_nearest
    use input_geometry, only: geom_object, geom_zrange
    use particles, only: particles_t, particles_grow, particles_fit
@@ -120,6 +120,11 @@ contains
          ! still water: hydrostatic density below the surface, rho0 above
          ! (body particles take the density of the water they displace)
          p%rho(i) = eos_density_at_depth(prm, max(prm%y_surface - p%x(2, i), 0.0_rp))
+         ! 'hydrostatic': the water's volume m/rho is the dp^d each particle fills on
+         ! its start lattice (in the pores, rho_s dp^d/n), not dp^d shrunk by the
+         ! compression of its depth: the discrete pressure gradient then holds
+         ! the water up at rho g (doc/mdbc.md, "Measured")
+         if (c%numerics%mass_id == mass_hydrostatic .and. p%kind(i) == kind_fluid) p%mass(i) = p%rho(i)*dp**ndim
          if (por%on .and. p%kind(i) == kind_fluid) then
             ! in the pores the continuity equation carries the superficial density n rho
             f = porous_point(por, p%x(1:nsec, i))

@@ -141,6 +141,8 @@ CASES: dict[str, Bad] = {
                                         "shifting = 'fickian'"), "numerics", "shifting", choices=("none",)),
     "mdbc_slip_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, boundary = 'mdbc', mdbc_slip = 'sticky'"), "numerics",
                              "mdbc_slip", choices=("wall", "noslip", "freeslip")),
+    "particle_mass_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, particle_mass = 'dense'"), "numerics",
+                                 "particle_mass", choices=("rho0", "hydrostatic")),
     "kernel_correction_unknown": Bad(edit("cfl = 0.2", "cfl = 0.2, kernel_correction = 'full'"), "numerics",
                                      "kernel_correction", choices=("none", "gradient", "shepard")),
     "verlet_every_zero": Bad(edit("cfl = 0.2", "cfl = 0.2, verlet_every = 0"), "numerics", "verlet_every",

@@ -40,6 +40,9 @@ SETTINGS = {
     "h/dp = 2": {"h_over_dp": 2.0},
     "h/dp = sqrt(2), gradient correction": {"kernel_correction": "gradient"},
     "h/dp = sqrt(2), Shepard filter": {"kernel_correction": "shepard"},
+    "h/dp = sqrt(2), hydrostatic mass": {"particle_mass": "hydrostatic"},
+    "h/dp = sqrt(2), gradient correction, hydrostatic mass": {"kernel_correction": "gradient",
+                                                              "particle_mass": "hydrostatic"},
 }
 REPULSIVE = {
     "repulsive, h/dp = sqrt(2)": {"boundary": "repulsive", "diffusion": "none"},
@@ -51,6 +54,10 @@ MDBC = {
     "mdbc, h/dp = 1.7": {"boundary": "mdbc", "h_over_dp": 1.7},
     "mdbc, h/dp = sqrt(2), gradient correction": {"boundary": "mdbc", "kernel_correction": "gradient"},
     "mdbc, h/dp = sqrt(2), no slip": {"boundary": "mdbc", "mdbc_slip": "noslip"},
+    "mdbc, h/dp = sqrt(2), hydrostatic mass": {"boundary": "mdbc", "particle_mass": "hydrostatic"},
+    "mdbc, h/dp = sqrt(2), gradient correction, hydrostatic mass": {"boundary": "mdbc",
+                                                                    "kernel_correction": "gradient",
+                                                                    "particle_mass": "hydrostatic"},
 }
 
 
@@ -88,10 +95,10 @@ def main() -> None:
         SETTINGS.update(MDBC)
     with tempfile.TemporaryDirectory() as tmp, ThreadPoolExecutor(max_workers=workers) as pool:
         rows = list(pool.map(lambda n: run(n, Path(tmp)), SETTINGS))
-    print(f"{'setting':40s} {'bed error, mean [%]':>20s} {'range [%]':>16s} {'mean speed / sqrt(gH)':>22s}")
+    print(f"{'setting':56s} {'bed error, mean [%]':>20s} {'range [%]':>16s} {'mean speed / sqrt(gH)':>22s}")
     for name, errors, speed in rows:
         e = 100 * np.array(errors)
-        print(f"{name:40s} {e.mean():20.2f} {e.min():7.2f} .. {e.max():5.2f} {speed / math.sqrt(G * H):22.1e}")
+        print(f"{name:56s} {e.mean():20.2f} {e.min():7.2f} .. {e.max():5.2f} {speed / math.sqrt(G * H):22.1e}")
 
 
 if __name__ == "__main__":
