@@ -44,7 +44,8 @@ module fluid_forces
          real(rp), intent(in) :: x(ndim, n), v(ndim, n), rho(n), irho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
          real(rp), intent(in) :: nrm(ndim, n), nf(:)
          integer, intent(in) :: kind(n), surf(n)
-         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
+         real(rp), intent(in), value :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc
+         real(rp), intent(in) :: rep(n_rep)
          real(rp), intent(inout) :: acc(ndim, n), drho(n)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_iface
@@ -60,7 +61,8 @@ module fluid_forces
          real(rp), intent(in) :: x(ndim, n), v(ndim, n), rho(n), irho(n), p(n), mass(n), cs(n), rhod(:), lm(:, :), tau(:, :)
          real(rp), intent(in) :: nrm(ndim, n), nf(:)
          integer, intent(in) :: kind(n), surf(n)
-         real(rp), intent(in) :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc, rep(n_rep)
+         real(rp), intent(in), value :: h, support2, eta2, fw, alpha, nu4, dcoef, ckgc
+         real(rp), intent(in) :: rep(n_rep)
          real(rp), intent(inout) :: rt(2*ndim + 2, n)
          real(rp), intent(inout) :: mumax
       end subroutine pairs_x_iface
