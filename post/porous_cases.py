@@ -10,10 +10,15 @@ tests/test_porous.py run the same texts), with what each is measured against.
   and falls out below: the flow rate against the Forchheimer law over the layer
   (quasi-steady, the porosity's transition included), for the three stone sizes of
   ``drain`` (the Darcy, the transitional and the turbulent regime).
+- ``steady``: a piston pushes water at a constant rate up a channel through a layer of
+  stones held between open water below and above: the head loss across the layer
+  against the Forchheimer law integrated over the smooth porosity profile, with no
+  entry or exit head (the water is at the piston's speed on both sides), in the three
+  regimes of ``drain``.
 
     .venv/bin/python -m post.porous_cases [--bin build/mbsph] [--out OUT/porous]
 
-runs them all (about 60 s on one core) and prints the table of doc/porous.md.
+runs them all (about 2 minutes on one core) and prints the table of doc/porous.md.
 
     .venv/bin/python -m post.porous_cases --liu OUT/porous_dambreak --liu-data DIR
 
@@ -39,7 +44,7 @@ from .io import FLUID, list_snapshots, read_snapshot
 
 __all__ = ["G", "NU", "ALPHA", "BETA", "GAMMA", "N", "coefficients", "terminal_velocity", "drain_velocity",
            "drain_case", "REGIMES", "H", "WIDTH", "TANK_DP", "T_SETTLE", "stones_tank_case", "surface",
-           "column_case", "column_law"]
+           "column_case", "column_law", "STEADY", "steady_case", "steady_law", "steady_loss"]
 
 G = 9.81
 NU = 1.0e-6
@@ -230,6 +235,68 @@ def liu_dambreak(out: Path, data: Path, dp: float = 0.004) -> list[str]:
     return rows
 
 
+STEADY_YL, STEADY_W, STEADY_TOP = 0.2, 0.1, 0.5     # layer's bottom, channel width, water's top (m)
+# the three regimes of drain, each at a Darcy velocity that makes the hydraulic gradient
+# about 1.3 (a head loss of 1 to 1.3 kPa over the layer): linear shares 0.96, 0.43, 0.04
+STEADY = {"darcy": (0.002, 0.0103), "transitional": (0.01, 0.07), "turbulent": (0.05, 0.24)}
+
+
+def steady_case(d50: float, u: float, out_dir: str = "OUT", dp: float = 0.005, h_over_dp: float = 2.0,
+                t_end: float = 0.6) -> str:
+    """A channel STEADY_W wide, walls 2h thick; a layer of stones COLUMN_L thick from
+    STEADY_YL, reaching into the walls; water from 0 to STEADY_TOP; a piston (a prescribed
+    body as wide as the channel) at its bottom pushes it up at u from t = 0 (u = 0: the
+    still reference). Pressure gauges in mid-channel half the transition and the kernel
+    support (plus dp) below and above the layer, where the water is open and moves at u."""
+    h = h_over_dp * dp
+    w = math.ceil(2 * h_over_dp - 1e-9) * dp
+    off = 0.5 * 2.0 * h + 2.0 * h + dp
+    yl, wc = STEADY_YL, STEADY_W
+    return f"""\
+&run case_name = 'steady', t_end = {t_end}, dt_out = 0.05, gauge_interval = 0.002, out_dir = '{out_dir}' /
+&domain xmin = {-w - 0.01}, xmax = {wc + w + 0.01}, ymin = {-w - 0.01}, ymax = {STEADY_TOP + 0.25} /
+&fluid coef = 20.0, h_swl = {STEADY_TOP} /
+&numerics dp = {dp}, h_over_dp = {h_over_dp}, integrator = 'symplectic' /
+&porous porosity = {N}, d50 = {d50}, xmin = {-w}, xmax = {wc + w}, ymin = {yl}, ymax = {yl + COLUMN_L} /
+&box role = 'fluid', xmin = 0.0, xmax = {wc}, ymin = 0.0, ymax = {STEADY_TOP} /
+&box role = 'solid', xmin = {-w}, xmax = 0.0, ymin = {-w}, ymax = {STEADY_TOP + 0.2} /
+&box role = 'solid', xmin = {wc}, xmax = {wc + w}, ymin = {-w}, ymax = {STEADY_TOP + 0.2} /
+&body shape = 'box', motion = 'prescribed', x = {0.5 * wc}, y = {-0.5 * w}, width = {wc}, height = {w}, v = {u} /
+&gauge kind = 'pressure', x = {0.5 * wc}, y = {yl - off} /
+&gauge kind = 'pressure', x = {0.5 * wc}, y = {yl + COLUMN_L + off} /
+"""
+
+
+def steady_law(u: float, d50: float, width: float) -> tuple[float, float]:
+    """The head loss [Pa] of steady flow at Darcy velocity u through the layer: rho0 times
+    the integral of kl(n) V + kq(n) V^2, V = u / n, over the smooth porosity profile of
+    transition ``width`` (the convective and added-mass terms integrate to zero between
+    two points of open water at the same velocity); and the linear term's share."""
+    y = np.linspace(-width, COLUMN_L + width, 20001)
+    d = np.minimum(y, COLUMN_L - y)
+    t = np.clip(d / width + 0.5, 0, 1)
+    s = t * t * (3 - 2 * t)
+    n = 1 - s * (1 - N)
+    kl = s * ALPHA * NU * (1 - n) ** 2 / (n * n * d50 * d50)
+    kq = s * BETA * (1 - n) / (n * d50)
+    v = u / n
+    lin, tot = float(np.trapezoid(kl * v, y)), float(np.trapezoid(kl * v + kq * v * v, y))
+    return 1000.0 * tot, lin / tot
+
+
+def steady_loss(moving: Path, still: Path, t0: float, t1: float) -> float:
+    """The measured head loss [Pa]: the mean pressure difference of the two gauges from t0
+    to t1 with the piston moving, less the same in still water (the hydrostatic difference
+    as the discrete pressure gradient has it)."""
+    from .waves import read_gauges
+
+    def diff(out: Path) -> float:
+        _, t, c = read_gauges(out)
+        m = (t >= t0) & (t <= t1)
+        return float(c["p_1"][m].mean() - c["p_2"][m].mean())
+    return diff(moving) - diff(still)
+
+
 def _run(binary: str, text: str, out: Path) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     if (out / "OUT").exists():
@@ -299,6 +366,15 @@ def main() -> int:
     cdp, chd = a.column_dp, a.column_h_over_dp
     for name, d50 in REGIMES.items():
         column_rows(binary, root / f"column_{name}", d50, cdp, chd)
+    still = _run(binary, steady_case(0.01, 0.0), root / "steady_still")
+    for name, (d50, u) in STEADY.items():
+        t_end = min(0.6, 0.12 / u)          # the piston stays below the lower gauge's support
+        out = _run(binary, steady_case(d50, u, t_end=t_end), root / f"steady_{name}")
+        loss = steady_loss(out, still, t_end - 0.25, t_end)
+        law, lin = steady_law(u, d50, 4.0 * cdp)
+        print(f"| steady flow through a layer, D = {d50} m ({name}, linear share {lin:.2f}), Darcy velocity {u} m/s, "
+              f"dp = {cdp} m, h = 2 dp, t = {t_end - 0.25:.2f} to {t_end:.2f} s | head loss {loss:.0f} Pa | "
+              f"Forchheimer law over the porosity profile: {law:.0f} Pa | {100 * (loss / law - 1):+.1f} % |")
     return 0
 
 

@@ -28,7 +28,7 @@ import pytest
 from conftest import assert_ok, assert_same_datasets, read_attrs, run_case, snapshots
 from post import hydrostatic
 from post.io import FLUID, list_snapshots, read_snapshot
-from post.porous_cases import (G, H, N, REGIMES, T_SETTLE, TANK_DP, WIDTH, coefficients, drain_case,
+from post.porous_cases import (STEADY, steady_case, steady_law, steady_loss, G, H, N, REGIMES, T_SETTLE, TANK_DP, WIDTH, coefficients, drain_case,
                                drain_velocity, stones_tank_case, surface, terminal_velocity)
 from post.porous_waves import case as porous_waves_case
 from post.porous_waves import corrected, measure
@@ -224,3 +224,40 @@ def test_porous_breakwater_reflects_and_transmits_as_madsen(porous_waves) -> Non
     kr, kt = corrected(m, empty)
     assert abs(kt / th.KT - 1) <= 0.10, (kt, th.KT, m, empty)
     assert abs(kr / th.KR - 1) <= 0.10, (kr, th.KR, m, empty)
+
+
+@pytest.fixture(scope="module")
+def steady_still(tmp_path_factory: pytest.TempPathFactory, mbsph: Path) -> Path:
+    proc, out = run_case(steady_case(0.01, 0.0), tmp_path_factory.mktemp("steady_still"))
+    assert_ok(proc)
+    return out
+
+
+def steady_error(regime: str, still: Path, tmp: Path) -> tuple[float, float, float]:
+    d50, u = STEADY[regime]
+    proc, out = run_case(steady_case(d50, u), tmp)
+    assert_ok(proc)
+    loss = steady_loss(out, still, 0.35, 0.6)
+    law, lin = steady_law(u, d50, 4.0 * 0.005)
+    return loss, law, lin
+
+
+def test_steady_darcy_flow_loses_the_forchheimer_head(steady_still: Path, tmp_path: Path) -> None:
+    """Water pushed at 10.3 mm/s up a channel through a layer of fine stones (D = 2 mm,
+    n = 0.4, linear share of the resistance 0.96), open water at the same speed below and
+    above it: the head loss across the layer (the two gauges' pressure difference less the
+    still water's) within 2 % of the Forchheimer law integrated over the porosity profile
+    (issue 17's bar; +1.5 % measured, doc/porous.md)."""
+    loss, law, lin = steady_error("darcy", steady_still, tmp_path)
+    assert lin > 0.9
+    assert abs(loss / law - 1) <= 0.02, (loss, law)
+
+
+@pytest.mark.xfail(strict=True, reason="the pores' start lattice does not hold the water its porosity "
+                   "calls for across the stones' edge: +12.7 % in transitional flow (doc/porous.md, "
+                   "what does not work yet)")
+def test_steady_transitional_flow_loses_the_forchheimer_head(steady_still: Path, tmp_path: Path) -> None:
+    """The same channel with D = 10 mm stones at 70 mm/s (linear share 0.44): within 2 %."""
+    loss, law, lin = steady_error("transitional", steady_still, tmp_path)
+    assert 0.3 < lin < 0.6
+    assert abs(loss / law - 1) <= 0.02, (loss, law)
