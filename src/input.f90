@@ -492,9 +492,6 @@ contains
       ! the breakwater is a strip of an infinitely long one: no side walls are built
       if (c%breakwater%on .and. .not. c%domain%periodic_z) call input_error(c%file, 'breakwater', '', &
          'in the 3D build the breakwater is a strip with periodic sides: set &domain periodic_z = .true.')
-      if (c%breakwater%on .and. c%breakwater%core_id == core_porous) call input_error(c%file, 'breakwater', 'core', &
-         'a porous core is '//later)
-      if (size(c%porous) > 0) call input_error(c%file, 'porous #1', '', 'porous regions are '//later)
       if (c%numerics%boundary_id == bnd_repulsive) call input_error(c%file, 'numerics', 'boundary', &
                                                                    "'repulsive' is "//later)
    end subroutine refuse_in_3d

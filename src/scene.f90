@@ -100,7 +100,7 @@ contains
             call add_lattice(c%objs(k), k, dp, zdom, p, c%objs, holes, por)
          end if
       end do
-      call add_pore_water(c, dp, p, holes, por)
+      call add_pore_water(c, dp, zdom, p, holes, por)
       call scene_bodies(c, bodies, p)
       nf = count(p%kind(1:p%n) == kind_fluid)
       ybed = 0.0_rp
@@ -375,9 +375,18 @@ contains
       real(rp), intent(in) :: pt(ndim), dp
       type(outline_t), intent(in) :: holes(:)
       type(porous_t), intent(in) :: por
+      in_hole = in_pores(por, pt(1:nsec))
+      if (.not. in_hole) in_hole = in_body_hole(pt, holes, dp)
+   end function in_hole
+
+   !> Inside a body, or closer to its outline than half a spacing dp (in 3D:
+   !> and within its extent across the width, grown by as much).
+   logical function in_body_hole(pt, holes, dp) result(in_hole)
+      real(rp), intent(in) :: pt(ndim), dp
+      type(outline_t), intent(in) :: holes(:)
       integer :: h
       real(rp) :: own(3), q(3), nq(3)
-      in_hole = in_pores(por, pt(1:nsec))
+      in_hole = .false.
       do h = 1, size(holes)
          if (ndim == 3) then
             if (pt(ndim) < holes(h)%zr(1) - 0.499_rp*dp .or. pt(ndim) > holes(h)%zr(2) + 0.499_rp*dp) cycle
@@ -408,27 +417,30 @@ contains
          y = 0.0_rp
          y(1:ndim) = x
       end function pad
-   end function in_hole
+   end function in_body_hole
 
    !> Water in the pores: where a porous region covers a fluid object, a
-   !> lattice of spacing about dp/sqrt(n), so that every particle keeps the
-   !> mass rho0 dp^2 and the superficial density is n rho0. The lattice is
+   !> lattice of spacing about dp/n^(1/d), so that every particle keeps the
+   !> mass rho0 dp^d and the superficial density is n rho0. The lattice is
    !> fitted to the box the two outlines share (a whole number of rows and
-   !> columns, half a spacing in from its sides), so that the water in the
+   !> columns, half a spacing in from its sides; in 3D as many layers across
+   !> the object's width, which they tile), so that the water in the
    !> pores starts with the volume of the pores it fills, level with the open
    !> water beside it.
-   subroutine add_pore_water(c, dp, p, holes, por)
+   subroutine add_pore_water(c, dp, zdom, p, holes, por)
       type(case_cfg), intent(in) :: c
-      real(rp), intent(in) :: dp
+      real(rp), intent(in) :: dp, zdom(2)
       type(particles_t), intent(inout) :: p
       type(outline_t), intent(in) :: holes(:)
       type(porous_t), intent(in) :: por
-      integer :: r, o, i, j, nx, ny, k
-      real(rp) :: s, lo(2), hi(2), sx, sy, pt(2)
+      integer :: r, o, i, j, l, nx, ny, nz, k
+      real(rp) :: s, lo(2), hi(2), sx, sy, sz, pt(2), ps(ndim), z(2)
       if (.not. por%on) return
       regions: do r = 1, size(por%r)
          if (por%r(r)%n >= 1.0_rp) cycle regions
+         ! each particle fills dp^d / n (in 3D the regions are prisms across the width)
          s = dp/sqrt(por%r(r)%n)
+         if (ndim == 3) s = dp/por%r(r)%n**(1.0_rp/3.0_rp)
          objects: do o = 1, size(c%objs)
             if (c%objs(o)%role_id /= role_fluid) cycle objects
             lo = max(minval(por%r(r)%v, dim=2), minval(c%objs(o)%v, dim=2))
@@ -438,22 +450,34 @@ contains
             ny = max(1, nint((hi(2) - lo(2))/s))
             sx = (hi(1) - lo(1))/nx
             sy = (hi(2) - lo(2))/ny
-            call particles_grow(p, nx*ny)
-            do j = 1, ny
-               points: do i = 1, nx
-                  pt = [lo(1) + (i - 0.5_rp)*sx, lo(2) + (j - 0.5_rp)*sy]
-                  if (.not. pore_free(c, por, holes, dp, pt, r, o)) cycle points
-                  p%n = p%n + 1
-                  k = p%n
-                  p%x(:, k) = pt
-                  p%xb(:, k) = pt
-                  p%kind(k) = kind_fluid
-                  p%body(k) = 0
-                  p%nrm(:, k) = 0.0_rp
-                  p%surf(k) = 0
-                  p%nb(:, k) = 0.0_rp
-               end do points
-            end do
+            z = geom_zrange(c%objs(o), zdom)
+            nz = 1
+            sz = 0.0_rp
+            if (ndim == 3) then
+               nz = max(1, nint((z(2) - z(1))/s))
+               sz = (z(2) - z(1))/nz
+            end if
+            call particles_grow(p, nx*ny*nz)
+            across: do l = 1, nz
+               ! in 2D the section's point below overwrites this
+               ps(ndim) = z(1) + (l - 0.5_rp)*sz
+               do j = 1, ny
+                  points: do i = 1, nx
+                     pt = [lo(1) + (i - 0.5_rp)*sx, lo(2) + (j - 0.5_rp)*sy]
+                     ps(1:nsec) = pt
+                     if (.not. pore_free(c, por, holes, dp, ps, r, o)) cycle points
+                     p%n = p%n + 1
+                     k = p%n
+                     p%x(:, k) = ps
+                     p%xb(:, k) = ps
+                     p%kind(k) = kind_fluid
+                     p%body(k) = 0
+                     p%nrm(:, k) = 0.0_rp
+                     p%surf(k) = 0
+                     p%nb(:, k) = 0.0_rp
+                  end do points
+               end do
+            end do across
          end do objects
       end do regions
    end subroutine add_pore_water
@@ -461,13 +485,15 @@ contains
    !> A point of the pore water's lattice of region r and fluid object o that is
    !> not already water of an earlier object or region, nor in a body or closer
    !> to it than half a spacing.
-   logical function pore_free(c, por, holes, dp, pt, r, o) result(free)
+   logical function pore_free(c, por, holes, dp, ps, r, o) result(free)
       type(case_cfg), intent(in) :: c
       type(porous_t), intent(in) :: por
       type(outline_t), intent(in) :: holes(:)
-      real(rp), intent(in) :: dp, pt(2)
+      real(rp), intent(in) :: dp, ps(ndim)
       integer, intent(in) :: r, o
       integer :: k
+      real(rp) :: pt(2)
+      pt = ps(1:nsec)
       free = point_in_polygon(pt, por%r(r)%v) .and. point_in_polygon(pt, c%objs(o)%v)
       do k = 1, o - 1
          if (c%objs(k)%role_id == role_fluid) free = free .and. .not. point_in_polygon(pt, c%objs(k)%v)
@@ -475,9 +501,7 @@ contains
       do k = 1, r - 1
          if (por%r(k)%n < 1.0_rp) free = free .and. .not. point_in_polygon(pt, por%r(k)%v)
       end do
-      do k = 1, size(holes)
-         free = free .and. .not. (point_in_polygon(pt, holes(k)%v) .or. distance_to_polygon(pt, holes(k)%v) < 0.499_rp*dp)
-      end do
+      if (free) free = .not. in_body_hole(ps, holes, dp)
    end function pore_free
 
    !> Inside a porous region (of porosity below 1), whose water add_pore_water places.
