@@ -44,7 +44,7 @@ from .io import FLUID, list_snapshots, read_snapshot
 
 __all__ = ["G", "NU", "ALPHA", "BETA", "GAMMA", "N", "coefficients", "terminal_velocity", "drain_velocity",
            "drain_case", "REGIMES", "H", "WIDTH", "TANK_DP", "T_SETTLE", "stones_tank_case", "surface",
-           "column_case", "column_law", "STEADY", "steady_case", "steady_law", "steady_loss"]
+           "column_case", "column_law", "STEADY", "STEADY_DP", "steady_case", "steady_law", "steady_loss"]
 
 G = 9.81
 NU = 1.0e-6
@@ -236,12 +236,13 @@ def liu_dambreak(out: Path, data: Path, dp: float = 0.004) -> list[str]:
 
 
 STEADY_YL, STEADY_W, STEADY_TOP = 0.2, 0.1, 0.5     # layer's bottom, channel width, water's top (m)
+STEADY_DP = 0.005                                    # particle spacing (m), h = 2 dp: the transition 2h = 4 dp
 # the three regimes of drain, each at a Darcy velocity that makes the hydraulic gradient
-# about 1.3 (a head loss of 1 to 1.3 kPa over the layer): linear shares 0.96, 0.43, 0.04
+# about 1.3 (a head loss of 1 to 1.3 kPa over the layer): linear shares 0.96, 0.44, 0.04
 STEADY = {"darcy": (0.002, 0.0103), "transitional": (0.01, 0.07), "turbulent": (0.05, 0.24)}
 
 
-def steady_case(d50: float, u: float, out_dir: str = "OUT", dp: float = 0.005, h_over_dp: float = 2.0,
+def steady_case(d50: float, u: float, out_dir: str = "OUT", dp: float = STEADY_DP, h_over_dp: float = 2.0,
                 t_end: float = 0.6) -> str:
     """A channel STEADY_W wide, walls 2h thick; a layer of stones COLUMN_L thick from
     STEADY_YL, reaching into the walls; water from 0 to STEADY_TOP; a piston (a prescribed
@@ -371,9 +372,9 @@ def main() -> int:
         t_end = min(0.6, 0.12 / u)          # the piston stays below the lower gauge's support
         out = _run(binary, steady_case(d50, u, t_end=t_end), root / f"steady_{name}")
         loss = steady_loss(out, still, t_end - 0.25, t_end)
-        law, lin = steady_law(u, d50, 4.0 * cdp)
+        law, lin = steady_law(u, d50, 4.0 * STEADY_DP)
         print(f"| steady flow through a layer, D = {d50} m ({name}, linear share {lin:.2f}), Darcy velocity {u} m/s, "
-              f"dp = {cdp} m, h = 2 dp, t = {t_end - 0.25:.2f} to {t_end:.2f} s | head loss {loss:.0f} Pa | "
+              f"dp = {STEADY_DP} m, h = 2 dp, t = {t_end - 0.25:.2f} to {t_end:.2f} s | head loss {loss:.0f} Pa | "
               f"Forchheimer law over the porosity profile: {law:.0f} Pa | {100 * (loss / law - 1):+.1f} % |")
     return 0
 

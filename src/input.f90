@@ -220,7 +220,7 @@ contains
          "'repulsive' does not work with porous regions (&porous, &breakwater core = 'porous') yet: use 'dynamic'")
       if (c%numerics%shift_id /= shift_none) call input_error(c%file, 'numerics', 'shifting', &
          "'"//trim(c%numerics%shifting)//"' does not work with porous regions (&porous, &breakwater core = "// &
-         "'porous') yet: use 'none' (the pore water's lattice is looser by 1/sqrt(n))")
+         "'porous') yet: use 'none' (the pore water's lattice is looser by n^(-1/d))")
    end subroutine check_porous
 
    !> The breakwater, its armour and the paddle become objects and bodies

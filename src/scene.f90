@@ -121,8 +121,8 @@ contains
          ! (body particles take the density of the water they displace)
          p%rho(i) = eos_density_at_depth(prm, max(prm%y_surface - p%x(2, i), 0.0_rp))
          ! 'hydrostatic': the water's volume m/rho is the dp^d each particle fills on
-         ! its start lattice (in the pores, rho_s dp^d/n), not dp^d shrunk by the
-         ! compression of its depth: the discrete pressure gradient then holds
+         ! its start lattice (in the pores m/(n rho) = dp^d/n), not dp^d shrunk by
+         ! the compression of its depth: the discrete pressure gradient then holds
          ! the water up at rho g (doc/mdbc.md, "Measured")
          if (c%numerics%mass_id == mass_hydrostatic .and. p%kind(i) == kind_fluid) p%mass(i) = p%rho(i)*dp**ndim
          if (por%on .and. p%kind(i) == kind_fluid) then
@@ -162,8 +162,8 @@ contains
    end subroutine no_fluid
 
    !> About how many particles the case makes: the area of every object and
-   !> body over dp^2, in 3D times the width over dp (overlaps counted twice: an
-   !> upper estimate), before any is made.
+   !> body over dp^2 (a porous region's 1/n - 1 times more), in 3D times the
+   !> width over dp (overlaps counted twice: an upper estimate), before any is made.
    real(rp) function scene_estimate(c) result(n)
       type(case_cfg), intent(in) :: c
       integer :: k
@@ -173,6 +173,10 @@ contains
       end do
       do k = 1, size(c%bodies)
          n = n + abs(polygon_area(body_outline(c%bodies(k))))
+      end do
+      ! water in the pores: 1/n particles where open water has one
+      do k = 1, size(c%porous)
+         n = n + abs(polygon_area(c%porous(k)%v))*(1.0_rp/c%porous(k)%porosity - 1.0_rp)
       end do
       n = n/c%numerics%dp**2
       if (ndim == 3) n = n*max(1.0_rp, (c%domain%zmax - c%domain%zmin)/c%numerics%dp)
@@ -381,32 +385,32 @@ contains
 
    !> Inside a body, or closer to its outline than half a spacing dp (in 3D:
    !> and within its extent across the width, grown by as much).
-   logical function in_body_hole(pt, holes, dp) result(in_hole)
+   logical function in_body_hole(pt, holes, dp) result(inside)
       real(rp), intent(in) :: pt(ndim), dp
       type(outline_t), intent(in) :: holes(:)
       integer :: h
       real(rp) :: own(3), q(3), nq(3)
-      in_hole = .false.
+      inside = .false.
       do h = 1, size(holes)
          if (ndim == 3) then
             if (pt(ndim) < holes(h)%zr(1) - 0.499_rp*dp .or. pt(ndim) > holes(h)%zr(2) + 0.499_rp*dp) cycle
             if (holes(h)%stl) then
                ! inside the mesh or within 0.499 dp of it
                own = matmul(pad(pt) - holes(h)%c, holes(h)%turn)
-               if (.not. in_hole .and. norm2(own) < holes(h)%rmax + 0.5_rp*dp) then
+               if (.not. inside .and. norm2(own) < holes(h)%rmax + 0.5_rp*dp) then
                   call stl_nearest(holes(h)%mesh, own, q, nq)
-                  in_hole = stl_inside(holes(h)%mesh, own) .or. norm2(q - own) < 0.499_rp*dp
+                  inside = stl_inside(holes(h)%mesh, own) .or. norm2(q - own) < 0.499_rp*dp
                end if
                cycle
             end if
             if (holes(h)%box) then
                ! within 0.499 dp of the turned box
-               in_hole = in_hole .or. norm2(max(abs(matmul(pad(pt) - holes(h)%c, holes(h)%turn)) - holes(h)%half, &
+               inside = inside .or. norm2(max(abs(matmul(pad(pt) - holes(h)%c, holes(h)%turn)) - holes(h)%half, &
                                                 0.0_rp)) < 0.499_rp*dp
                cycle
             end if
          end if
-         in_hole = in_hole .or. point_in_polygon(pt(1:nsec), holes(h)%v) .or. &
+         inside = inside .or. point_in_polygon(pt(1:nsec), holes(h)%v) .or. &
                    distance_to_polygon(pt(1:nsec), holes(h)%v) < 0.499_rp*dp
       end do
    contains
@@ -465,7 +469,7 @@ contains
                   points: do i = 1, nx
                      pt = [lo(1) + (i - 0.5_rp)*sx, lo(2) + (j - 0.5_rp)*sy]
                      ps(1:nsec) = pt
-                     if (.not. pore_free(c, por, holes, dp, ps, r, o)) cycle points
+                     if (.not. pore_free(c, por, holes, dp, zdom, ps, r, o)) cycle points
                      p%n = p%n + 1
                      k = p%n
                      p%x(:, k) = ps
@@ -485,18 +489,24 @@ contains
    !> A point of the pore water's lattice of region r and fluid object o that is
    !> not already water of an earlier object or region, nor in a body or closer
    !> to it than half a spacing.
-   logical function pore_free(c, por, holes, dp, ps, r, o) result(free)
+   logical function pore_free(c, por, holes, dp, zdom, ps, r, o) result(free)
       type(case_cfg), intent(in) :: c
       type(porous_t), intent(in) :: por
       type(outline_t), intent(in) :: holes(:)
-      real(rp), intent(in) :: dp, ps(ndim)
+      real(rp), intent(in) :: dp, zdom(2), ps(ndim)
       integer, intent(in) :: r, o
       integer :: k
-      real(rp) :: pt(2)
+      real(rp) :: pt(2), z(2)
       pt = ps(1:nsec)
       free = point_in_polygon(pt, por%r(r)%v) .and. point_in_polygon(pt, c%objs(o)%v)
       do k = 1, o - 1
-         if (c%objs(k)%role_id == role_fluid) free = free .and. .not. point_in_polygon(pt, c%objs(k)%v)
+         if (c%objs(k)%role_id /= role_fluid) cycle
+         if (ndim == 3) then
+            ! an earlier fluid object holds this point only within its own width
+            z = geom_zrange(c%objs(k), zdom)
+            if (ps(ndim) < z(1) .or. ps(ndim) > z(2)) cycle
+         end if
+         free = free .and. .not. point_in_polygon(pt, c%objs(k)%v)
       end do
       do k = 1, r - 1
          if (por%r(k)%n < 1.0_rp) free = free .and. .not. point_in_polygon(pt, por%r(k)%v)

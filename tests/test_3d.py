@@ -1272,7 +1272,16 @@ def test_3d_drainage_follows_the_momentum_equation(regime: str, tmp_path: Path, 
     assert_ok(proc)
     snaps = [read_snapshot(p) for p in snapshots(out)]
     fluid = snaps[0].kind == 1
-    assert fluid.sum() == round(0.2 / (0.01 / N ** (1.0 / 3.0))) ** 3
+    nl = round(0.2 / (0.01 / N ** (1.0 / 3.0)))
+    assert fluid.sum() == nl ** 3
+    # the layers tile the cube's width: nl of them, half a spacing in from its sides
+    z = np.unique(np.round(snaps[0].position[fluid, 2], 9))
+    assert len(z) == nl and np.allclose(z, 0.1 + (np.arange(nl) + 0.5) * 0.2 / nl)
+    # the water falls whole and free: nothing lost, its pressure near zero (5 % of rho g
+    # times the cube's height, as in 2D), which overlapping or gapped layers would not give
+    for s in snaps[1:]:
+        assert (s.kind == 1).sum() == fluid.sum()
+        assert np.max(np.abs(s.pressure[s.kind == 1])) < 0.05 * 1000.0 * 9.81 * 0.2, s.time
     t = np.array([s.time for s in snaps[1:]])
     v = np.array([-s.velocity[s.kind == 1, 1].mean() for s in snaps[1:]])
     exact = drain_velocity(N, d50, t)

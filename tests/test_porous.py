@@ -28,7 +28,8 @@ import pytest
 from conftest import assert_ok, assert_same_datasets, read_attrs, run_case, snapshots
 from post import hydrostatic
 from post.io import FLUID, list_snapshots, read_snapshot
-from post.porous_cases import (STEADY, steady_case, steady_law, steady_loss, G, H, N, REGIMES, T_SETTLE, TANK_DP, WIDTH, coefficients, drain_case,
+from post.porous_cases import (STEADY, STEADY_DP, G, H, N, REGIMES, T_SETTLE, TANK_DP, WIDTH, coefficients,
+                               drain_case, steady_case, steady_law, steady_loss,
                                drain_velocity, stones_tank_case, surface, terminal_velocity)
 from post.porous_waves import case as porous_waves_case
 from post.porous_waves import corrected, measure
@@ -238,7 +239,7 @@ def steady_error(regime: str, still: Path, tmp: Path) -> tuple[float, float, flo
     proc, out = run_case(steady_case(d50, u), tmp)
     assert_ok(proc)
     loss = steady_loss(out, still, 0.35, 0.6)
-    law, lin = steady_law(u, d50, 4.0 * 0.005)
+    law, lin = steady_law(u, d50, 4.0 * STEADY_DP)
     return loss, law, lin
 
 
