@@ -184,11 +184,11 @@ def column_case(d50: float, out_dir: str = "OUT", dp: float = 0.005, h_over_dp: 
 """
 
 
-def column_law(head: float, d50: float, width: float) -> float:
-    """The Darcy velocity u [m/s] of steady flow through the layer under the water depth
-    ``head`` above it (pressure zero at the exit below): g (head + L) equals the integral
-    of the resistance kl(n) V + kq(n) V^2, V = u / n, over the smooth porosity profile of
-    transition ``width``."""
+def layer_profile(d50: float, width: float) -> tuple[np.ndarray, ...]:
+    """Across a layer of stones COLUMN_L thick (y = 0 at its outline's bottom): heights y,
+    the solver's porosity n(y) (the smooth step over ``width``, a step at 0), and its
+    resistance rates kl(y) [1/s] and kq(y) [1/m] in the pore velocity, each region's
+    coefficients weighted by the step as in the solver's porosity field."""
     y = np.linspace(-width, COLUMN_L + width, 20001)
     d = np.minimum(y, COLUMN_L - y)
     t = np.clip(d / width + 0.5, 0, 1) if width > 0 else (d > 0).astype(float)
@@ -196,6 +196,15 @@ def column_law(head: float, d50: float, width: float) -> float:
     n = 1 - s * (1 - N)
     kl = s * ALPHA * NU * (1 - n) ** 2 / (n * n * d50 * d50)
     kq = s * BETA * (1 - n) / (n * d50)
+    return y, n, kl, kq
+
+
+def column_law(head: float, d50: float, width: float) -> float:
+    """The Darcy velocity u [m/s] of steady flow through the layer under the water depth
+    ``head`` above it (pressure zero at the exit below): g (head + L) equals the integral
+    of the resistance kl(n) V + kq(n) V^2, V = u / n, over the smooth porosity profile of
+    transition ``width``."""
+    y, n, kl, kq = layer_profile(d50, width)
 
     def excess(u: float) -> float:
         v = u / n
@@ -273,13 +282,7 @@ def steady_law(u: float, d50: float, width: float) -> tuple[float, float]:
     the integral of kl(n) V + kq(n) V^2, V = u / n, over the smooth porosity profile of
     transition ``width`` (the convective and added-mass terms integrate to zero between
     two points of open water at the same velocity); and the linear term's share."""
-    y = np.linspace(-width, COLUMN_L + width, 20001)
-    d = np.minimum(y, COLUMN_L - y)
-    t = np.clip(d / width + 0.5, 0, 1)
-    s = t * t * (3 - 2 * t)
-    n = 1 - s * (1 - N)
-    kl = s * ALPHA * NU * (1 - n) ** 2 / (n * n * d50 * d50)
-    kq = s * BETA * (1 - n) / (n * d50)
+    y, n, kl, kq = layer_profile(d50, width)
     v = u / n
     lin, tot = float(np.trapezoid(kl * v, y)), float(np.trapezoid(kl * v + kq * v * v, y))
     return 1000.0 * tot, lin / tot

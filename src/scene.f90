@@ -454,13 +454,9 @@ contains
             ny = max(1, nint((hi(2) - lo(2))/s))
             sx = (hi(1) - lo(1))/nx
             sy = (hi(2) - lo(2))/ny
-            z = geom_zrange(c%objs(o), zdom)
-            nz = 1
-            sz = 0.0_rp
-            if (ndim == 3) then
-               nz = max(1, nint((z(2) - z(1))/s))
-               sz = (z(2) - z(1))/nz
-            end if
+            ! layers across fitted to the object's width (in 2D one, at the section)
+            nz = layers_across(c%objs(o), zdom, s, z)
+            sz = (z(2) - z(1))/nz
             call particles_grow(p, nx*ny*nz)
             across: do l = 1, nz
                ! in 2D the section's point below overwrites this
@@ -610,13 +606,13 @@ contains
 
    !> The lattice layers across the object's width z (its own, or the domain's
    !> zdom) at spacing dp: 1 in 2D.
-   integer function layers_across(o, zdom, dp, z) result(nz)
+   integer function layers_across(o, zdom, s, z) result(nz)
       type(geom_object), intent(in) :: o
-      real(rp), intent(in) :: zdom(2), dp
+      real(rp), intent(in) :: zdom(2), s   !< s: the lattice's spacing
       real(rp), intent(out) :: z(2)
       z = geom_zrange(o, zdom)
       nz = 1
-      if (ndim == 3) nz = max(1, nint((z(2) - z(1))/dp))
+      if (ndim == 3) nz = max(1, nint((z(2) - z(1))/s))
    end function layers_across
 
 
