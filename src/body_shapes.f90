@@ -12,6 +12,7 @@ module body_shapes
    use rigid, only: nrot
    use input_body, only: body_cfg, body_turn, body_tilted
    use options, only: shape_circle, shape_box, shape_wedge, shape_polygon, shape_stl
+   use geom, only: point_in_polygon, distance_to_polygon, nearest_edge_normal, polygon_area
    use geom_stl, only: stl_props, stl_inside, stl_nearest, stl_bounds, stl_triangle_point, stl_sort_points
    implicit none
    private
@@ -402,7 +403,7 @@ contains
       real(rp), allocatable, intent(out) :: xb(:, :), nb(:, :)
       integer, allocatable, intent(out) :: surf(:)
       real(rp) :: mass, cen(ndim), inertia(nrot, nrot), r, a, ang
-      real(rp), allocatable :: v(:, :), w(:, :), en(:, :), off(:, :)
+      real(rp), allocatable :: v(:, :), w(:, :), en(:, :), off(:, :), core(:, :)
       integer :: l, k, m, n, ns, nv, j, cap
       integer :: ist
       character(len=200) :: emsg
@@ -454,7 +455,18 @@ contains
                j = modulo(k - 2, nv) + 1       ! edge before vertex k
                w(:, k) = inset_vertex(v(:, k), en(:, j), en(:, k), (l - 0.5_rp)*dp)
             end do
-            if (.not. inset_valid(v, w)) exit
+            if (.not. inset_valid(v, w, dp)) then
+               ! the rows have met before all layers were laid: a sliver left in
+               ! the middle (the mid-line of a box with an odd number of rows)
+               ! gets the points of the body's lattice, so that the body has no
+               ! hollow the water can fill (with mDBC, which does not repel, it
+               ! did, and the buoyancy fell to that of the particles' volume)
+               core = core_points(v, dp, (l - 0.75_rp)*dp)
+               do k = 1, size(core, 2)
+                  call push(core(:, k), nearest_edge_normal(core(:, k), v), 0)
+               end do
+               exit
+            end if
             do k = 1, nv
                j = modulo(k, nv) + 1
                m = max(1, nint(norm2(w(:, j) - w(:, k))/dp))
@@ -517,16 +529,45 @@ contains
 
    !> The inset polygon still has the outline's orientation and every edge
    !> points the same way as the original one.
-   pure logical function inset_valid(v, w) result(ok)
-      real(rp), intent(in) :: v(:, :), w(:, :)
+   !> The points of a lattice of about dp over outline v's bounding box (as the
+   !> rows along a box's sides lie) at least dmin inside the outline.
+   pure function core_points(v, dp, dmin) result(pts)
+      real(rp), intent(in) :: v(:, :), dp, dmin
+      real(rp), allocatable :: pts(:, :)
+      real(rp) :: lo(2), hi(2), pt(2)
+      integer :: i, j, nx, ny
+      logical, allocatable :: keep(:, :)
+      real(rp), allocatable :: pos(:, :, :)
+      lo = minval(v, dim=2)
+      hi = maxval(v, dim=2)
+      nx = max(1, nint((hi(1) - lo(1))/dp))
+      ny = max(1, nint((hi(2) - lo(2))/dp))
+      allocate (keep(nx, ny), pos(2, nx, ny))
+      do j = 1, ny
+         do i = 1, nx
+            pt = lo + ([i, j] - 0.5_rp)*(hi - lo)/[nx, ny]
+            pos(:, i, j) = pt
+            keep(i, j) = point_in_polygon(pt, v) .and. distance_to_polygon(pt, v) >= dmin
+         end do
+      end do
+      pts = reshape(pack(pos, spread(keep, 1, 2)), [2, count(keep)])
+   end function core_points
+
+   pure logical function inset_valid(v, w, dp) result(ok)
+      real(rp), intent(in) :: v(:, :), w(:, :), dp
       integer :: k, j, n
-      real(rp) :: area, cen(2)
+      real(rp) :: longest
       n = size(v, 2)
-      call polygon_props(w, area, cen)
-      ok = area > 0.0_rp
+      ! the area alone: an inset that collapsed onto a line has none, and no centroid
+      ok = polygon_area(w) > 0.0_rp
+      longest = 0.0_rp
       do k = 1, n
          j = modulo(k, n) + 1
          ok = ok .and. dot_product(w(:, j) - w(:, k), v(:, j) - v(:, k)) > 0.0_rp
+         longest = max(longest, norm2(w(:, j) - w(:, k)))
       end do
+      ! a row all of whose sides are shorter than dp/2 would crowd its particles
+      ! within half a spacing of each other: the core's lattice points take its place
+      ok = ok .and. longest >= 0.5_rp*dp
    end function inset_valid
 end module body_shapes

@@ -56,7 +56,8 @@ contains
       type(params_t), intent(out) :: prm
       type(body_t), allocatable, intent(out) :: bodies(:)
       integer :: k, i, nf
-      real(rp) :: dp, ybed, ytop, f(n_por), zdom(2)
+      real(rp) :: dp, ybed, ytop, f(n_por), zdom(2), vol
+      real(rp), allocatable :: cell(:)
       type(outline_t), allocatable :: holes(:)
       type(porous_t) :: por
       integer :: ist
@@ -100,7 +101,7 @@ contains
             call add_lattice(c%objs(k), k, dp, zdom, p, c%objs, holes, por)
          end if
       end do
-      call add_pore_water(c, dp, zdom, p, holes, por)
+      call add_pore_water(c, dp, zdom, p, holes, por, cell)
       call scene_bodies(c, bodies, p)
       nf = count(p%kind(1:p%n) == kind_fluid)
       ybed = 0.0_rp
@@ -113,7 +114,11 @@ contains
       do i = 1, p%n
          p%id(i) = i
          p%v(:, i) = 0.0_rp
-         p%mass(i) = prm%rho0*dp**ndim
+         ! the space the particle fills on its start lattice (the pores' lattice
+         ! is fitted to its region, add_pore_water)
+         vol = dp**ndim
+         if (i <= size(cell)) vol = cell(i)
+         p%mass(i) = prm%rho0*vol
          ! a filter carries no water: massless in every pair term, the water
          ! passes it (its particles only stop bodies, through the contact)
          if (p%kind(i) == kind_filter) p%mass(i) = 0.0_rp
@@ -124,11 +129,15 @@ contains
          ! its start lattice (in the pores m/(n rho) = dp^d/n), not dp^d shrunk by
          ! the compression of its depth: the discrete pressure gradient then holds
          ! the water up at rho g (doc/mdbc.md, "Measured")
-         if (c%numerics%mass_id == mass_hydrostatic .and. p%kind(i) == kind_fluid) p%mass(i) = p%rho(i)*dp**ndim
+         if (c%numerics%mass_id == mass_hydrostatic .and. p%kind(i) == kind_fluid) p%mass(i) = p%rho(i)*vol
          if (por%on .and. p%kind(i) == kind_fluid) then
-            ! in the pores the continuity equation carries the superficial density n rho
+            ! in the pores the continuity equation carries the superficial density
+            ! n rho, and the mass is that density times the particle's space, so
+            ! that its volume m/rho_s is the space it fills: across the smooth
+            ! edge too, where n(x) is between the region's n and 1 on either lattice
             f = porous_point(por, p%x(1:nsec, i))
             p%rho(i) = f(1)*p%rho(i)
+            p%mass(i) = f(1)*p%mass(i)
          end if
          if (p%history) then
             p%vm1(:, i) = p%v(:, i)
@@ -424,21 +433,24 @@ contains
    end function in_body_hole
 
    !> Water in the pores: where a porous region covers a fluid object, a
-   !> lattice of spacing about dp/n^(1/d), so that every particle keeps the
-   !> mass rho0 dp^d and the superficial density is n rho0. The lattice is
-   !> fitted to the box the two outlines share (a whole number of rows and
-   !> columns, half a spacing in from its sides; in 3D as many layers across
-   !> the object's width, which they tile), so that the water in the
-   !> pores starts with the volume of the pores it fills, level with the open
-   !> water beside it.
-   subroutine add_pore_water(c, dp, zdom, p, holes, por)
+   !> lattice of spacing about dp/n^(1/d). The lattice is fitted to the box the
+   !> two outlines share (a whole number of rows and columns, half a spacing in
+   !> from its sides; in 3D as many layers across the object's width, which
+   !> they tile), so that the water in the pores starts level with the open
+   !> water beside it. cell(k) is the space particle k fills on its lattice
+   !> (sx sy sz here, dp^d for every particle made before), from which
+   !> scene_build gives it the mass of the pores' water in that space.
+   subroutine add_pore_water(c, dp, zdom, p, holes, por, cell)
       type(case_cfg), intent(in) :: c
       real(rp), intent(in) :: dp, zdom(2)
       type(particles_t), intent(inout) :: p
       type(outline_t), intent(in) :: holes(:)
       type(porous_t), intent(in) :: por
-      integer :: r, o, i, j, l, nx, ny, nz, k
-      real(rp) :: s, lo(2), hi(2), sx, sy, sz, pt(2), ps(ndim), z(2)
+      real(rp), allocatable, intent(out) :: cell(:)
+      integer :: r, o, i, j, l, nx, ny, nz, k, n0
+      real(rp) :: s, lo(2), hi(2), sx, sy, sz, pt(2), ps(ndim), z(2), space
+      real(rp), allocatable :: grown(:)
+      cell = [(dp**ndim, k = 1, p%n)]
       if (.not. por%on) return
       regions: do r = 1, size(por%r)
          if (por%r(r)%n >= 1.0_rp) cycle regions
@@ -458,6 +470,7 @@ contains
             nz = layers_across(c%objs(o), zdom, s, z)
             sz = (z(2) - z(1))/nz
             call particles_grow(p, nx*ny*nz)
+            n0 = p%n
             across: do l = 1, nz
                ! in 2D the section's point below overwrites this
                ps(ndim) = z(1) + (l - 0.5_rp)*sz
@@ -478,6 +491,10 @@ contains
                   end do points
                end do
             end do across
+            space = sx*sy
+            if (ndim == 3) space = space*sz
+            grown = [cell, (space, k = n0 + 1, p%n)]
+            call move_alloc(grown, cell)
          end do objects
       end do regions
    end subroutine add_pore_water

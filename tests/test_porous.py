@@ -130,13 +130,10 @@ def test_half_stones_tank_has_one_level(half_tank) -> None:
     assert abs(inside - outside) <= 0.5 * TANK_DP, (inside, outside)
 
 
-@pytest.mark.xfail(strict=True, reason="the open water's pressure gradient is 1.9 % above rho g at h = 2 dp, the "
-                   "pores' 0.4 %: 2.03 % apart at the deepest point (doc/porous.md, what does not work yet)")
 def test_half_stones_tank_has_one_pressure_at_one_depth(half_tank) -> None:
     """Half filled with stones: at three depths the pressure inside and outside the
-    stones agree within 2 % of rho g H. Not met since the pressure term of the pores
-    became the open water's (measured 2.03 % at 0.1 m above the bed, 1.32 % at 0.3 m;
-    1.06 % with the first form, whose losses at the stones' edge were far larger)."""
+    stones agree within 2 % of rho g H (0.69 % measured, doc/porous.md; 2.06 % before
+    each particle's mass was that of the space it fills on its start lattice)."""
     ys = np.array([0.2, 0.4, 0.6]) * H
     p_out = hydrostatic.profile(half_tank, 0.2, ys)
     p_in = hydrostatic.profile(half_tank, 0.8, ys)
@@ -227,38 +224,59 @@ def test_porous_breakwater_reflects_and_transmits_as_madsen(porous_waves) -> Non
     assert abs(kr / th.KR - 1) <= 0.10, (kr, th.KR, m, empty)
 
 
-@pytest.fixture(scope="module")
-def steady_still(tmp_path_factory: pytest.TempPathFactory, mbsph: Path) -> Path:
-    proc, out = run_case(steady_case(0.01, 0.0), tmp_path_factory.mktemp("steady_still"))
+BOUNDARIES = ("dynamic", "mdbc")
+
+
+@pytest.fixture(scope="module", params=BOUNDARIES)
+def steady_still(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory,
+                 mbsph: Path) -> tuple[str, Path]:
+    """The still channel, the reference of the head loss, with either wall treatment."""
+    boundary = request.param
+    proc, out = run_case(steady_case(0.01, 0.0, boundary=boundary), tmp_path_factory.mktemp(f"steady_still_{boundary}"))
     assert_ok(proc)
-    return out
+    return boundary, out
 
 
-def steady_error(regime: str, still: Path, tmp: Path) -> tuple[float, float, float]:
+def steady_error(regime: str, still: tuple[str, Path], tmp: Path) -> tuple[float, float, float]:
     d50, u = STEADY[regime]
-    proc, out = run_case(steady_case(d50, u), tmp)
+    boundary, reference = still
+    t_end = min(0.6, 0.12 / u)          # the piston stays below the lower gauge's support
+    proc, out = run_case(steady_case(d50, u, t_end=t_end, boundary=boundary), tmp)
     assert_ok(proc)
-    loss = steady_loss(out, still, 0.35, 0.6)
+    loss = steady_loss(out, reference, t_end - 0.25, t_end)
     law, lin = steady_law(u, d50, 4.0 * STEADY_DP)
     return loss, law, lin
 
 
-def test_steady_darcy_flow_loses_the_forchheimer_head(steady_still: Path, tmp_path: Path) -> None:
+def test_steady_darcy_flow_loses_the_forchheimer_head(steady_still, tmp_path: Path) -> None:
     """Water pushed at 10.3 mm/s up a channel through a layer of fine stones (D = 2 mm,
     n = 0.4, linear share of the resistance 0.96), open water at the same speed below and
     above it: the head loss across the layer (the two gauges' pressure difference less the
     still water's) within 2 % of the Forchheimer law integrated over the porosity profile
-    (issue 17's bar; +1.5 % measured, doc/porous.md)."""
+    (issue 17's bar; -1.5 % measured with the dynamic boundary, -1.6 % with mDBC,
+    doc/porous.md)."""
     loss, law, lin = steady_error("darcy", steady_still, tmp_path)
     assert lin > 0.9
     assert abs(loss / law - 1) <= 0.02, (loss, law)
 
 
-@pytest.mark.xfail(strict=True, reason="the pores' start lattice does not hold the water its porosity "
-                   "calls for across the stones' edge: +12.7 % in transitional flow (doc/porous.md, "
-                   "what does not work yet)")
-def test_steady_transitional_flow_loses_the_forchheimer_head(steady_still: Path, tmp_path: Path) -> None:
-    """The same channel with D = 10 mm stones at 70 mm/s (linear share 0.44): within 2 %."""
+def test_steady_transitional_flow_loses_the_forchheimer_head(steady_still, tmp_path: Path) -> None:
+    """The same channel with D = 10 mm stones at 70 mm/s (linear share 0.44): within 2 %
+    (+1.3 % measured with the dynamic boundary, -0.1 % with mDBC; +12.7 % while the pores'
+    start lattice held 5.6 % more water than their porosity, doc/porous.md)."""
     loss, law, lin = steady_error("transitional", steady_still, tmp_path)
     assert 0.3 < lin < 0.6
+    assert abs(loss / law - 1) <= 0.02, (loss, law)
+
+
+@pytest.mark.xfail(strict=True, reason="known: the turbulent flow loses 8 % more head than the law with mDBC "
+                   "(14 % with the dynamic boundary), about the head of the pore water's jets leaving the "
+                   "layer, which the smooth volume-averaged equations do not have: doc/porous.md, what "
+                   "does not work yet")
+def test_steady_turbulent_flow_loses_the_forchheimer_head(steady_still, tmp_path: Path) -> None:
+    """The same channel with D = 50 mm stones at 0.24 m/s (linear share 0.04): within 2 %."""
+    if steady_still[0] != "mdbc":
+        pytest.skip("measured with mDBC, the porous cases' boundary (the dynamic boundary's +14 % in doc/porous.md)")
+    loss, law, lin = steady_error("turbulent", steady_still, tmp_path)
+    assert lin < 0.1
     assert abs(loss / law - 1) <= 0.02, (loss, law)

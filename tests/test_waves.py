@@ -321,49 +321,84 @@ def test_armour_rests_on_a_porous_core(porous_settle: Path) -> None:
 def test_units_that_friction_holds_stay_on_a_porous_core(tmp_path: Path, mbsph: Path) -> None:
     """Units whose friction holds them on the slope with a wide margin (density 5000
     kg/m3, mu = 2: mu cos(alpha) - sin(alpha) = 1.11 of the submerged weight) rest on the
-    porous core's filter in still water: from 0.5 s to the end of the 2 s run no unit
+    porous core's filter in still water: from 1 s to the end of the 2 s run no unit
     moves more than 0.02 dn (the light units of the flume, whose margin is a tenth of
-    their submerged weight, slide: doc/porous.md)."""
+    their submerged weight, slide: doc/porous.md). The first second is the layer's
+    settling: one unit (body 3) closes its placement gap, 0.22 dn, by 0.7 s (by 0.5 s
+    while the pore water started with 5.6 % too much mass; the same final place)."""
     text = POROUS_SETTLE.format(placement="regular").replace("density = 2200.0", "density = 5000.0, mu = 2.0")
     assert "mu = 2.0" in text
     proc, out = run_case(text, tmp_path, binary=mbsph, name=CASE)
     assert_ok(proc)
     dn = 0.04
-    for b, move in moves_after(out, 0.5, 2.0).items():
-        assert move <= 0.02 * dn, f"unit (body {b}) moved {move / dn:.3f} dn after 0.5 s"
+    for b, move in moves_after(out, 1.0, 2.0).items():
+        assert move <= 0.02 * dn, f"unit (body {b}) moved {move / dn:.3f} dn after 1 s"
 
 
-def test_armour_rests_on_a_porous_core_with_mdbc(tmp_path: Path, mbsph: Path) -> None:
-    """The flume's light units (friction holds them with a tenth of their submerged weight)
-    on the porous core's filter in still water, with the modified dynamic boundary (the
-    solids among the stones take the pore water's density, rho_s / n; doc/porous.md): no
-    water leaks through the solids; from 0.5 s to the end of the 2 s run no unit moves
-    more than 0.02 dn (0.002 dn measured; with the dynamic boundary they slide up to
-    0.5 dn); and the water under each fully submerged unit carries it as Archimedes
-    says: the mean fluid force normal to the slope from 1 to 2 s within 10 % of
-    rho g dn^2 cos(alpha), the buoyancy's share along the normal (4 to 8 % below it
-    measured)."""
-    import math
-
+@pytest.fixture(scope="module")
+def porous_settle_mdbc(tmp_path_factory: pytest.TempPathFactory, mbsph: Path):
+    """The settling flume on the porous core with the modified dynamic boundary."""
     text = POROUS_SETTLE.format(placement="regular").replace("h_over_dp = 2.0 /",
                                                              "h_over_dp = 2.0, boundary = 'mdbc' /")
     assert "boundary = 'mdbc'" in text
-    proc, out = run_case(text, tmp_path, binary=mbsph, name=CASE)
+    proc, out = run_case(text, tmp_path_factory.mktemp("porous_settle_mdbc"), binary=mbsph, name=CASE)
     assert_ok(proc)
+    return proc, out
+
+
+def unit_buoyancy(out: Path, near_bed: bool) -> dict[int, float]:
+    """The fully submerged units' mean fluid force normal to the slope from 1 to 2 s over
+    Archimedes' share rho g dn^2 cos(alpha); near_bed: only the units whose kernel support
+    (2h = 0.04 m below their lowest corner) reaches the impermeable bed, else only the others."""
+    import math
+
+    from post.armour import read_armour
+    dn, depth, rho, g, support = 0.04, 0.2, 1000.0, 9.81, 0.04
+    alpha = math.atan(1 / 1.5)
+    archimedes = rho * g * dn * dn * math.cos(alpha)
+    low = {int(b): y - 0.5 * dn * (math.cos(alpha) + math.sin(alpha))
+           for b, y in zip(read_armour(out / "armour.csv").body, read_armour(out / "armour.csv").y0)}
+    return {b: fn / archimedes for b, fn in submerged_normal_forces(out, 1.0, dn, depth).items()
+            if (low[b] < support) == near_bed}
+
+
+def test_armour_rests_on_a_porous_core_with_mdbc(porous_settle_mdbc) -> None:
+    """The flume's light units (friction holds them with a tenth of their submerged weight)
+    on the porous core's filter in still water, with the modified dynamic boundary (the
+    solids among the stones take the pore water's density, rho_s / n; doc/porous.md): no
+    water leaks through the solids; from 1 s to the end of the 2 s run no unit moves
+    more than 0.02 dn (0.0003 dn measured; with the dynamic boundary 0.09 dn). The first second is the layer's settling: three units close
+    their placement gaps, 0.31 to 0.63 dn, by 0.7 s. And the water under each fully
+    submerged unit clear of the bed carries it as Archimedes says: the mean fluid force
+    normal to the slope from 1 to 2 s within 10 % of rho g dn^2 cos(alpha), the
+    buoyancy's share along the normal (1 to 5 % below it measured)."""
+    proc, out = porous_settle_mdbc
     assert "removed" not in proc.stdout, describe(proc)
-    dn, depth, rho, g = 0.04, 0.2, 1000.0, 9.81
-    for b, move in moves_after(out, 0.5, 2.0).items():
-        assert move <= 0.02 * dn, f"unit (body {b}) moved {move / dn:.3f} dn after 0.5 s"
-    archimedes = rho * g * dn * dn * math.cos(math.atan(1 / 1.5))
-    forces = submerged_normal_forces(out, 1.0, dn, depth)
-    assert len(forces) >= 3
-    for b, fn in forces.items():
-        assert abs(fn / archimedes - 1.0) <= 0.10, (b, fn, archimedes)
+    dn = 0.04
+    for b, move in moves_after(out, 1.0, 2.0).items():
+        assert move <= 0.02 * dn, f"unit (body {b}) moved {move / dn:.3f} dn after 1 s"
+    ratios = unit_buoyancy(out, near_bed=False)
+    assert len(ratios) >= 3
+    for b, r in ratios.items():
+        assert abs(r - 1.0) <= 0.10, (b, r)
 
 
-@pytest.mark.xfail(strict=True, reason="known: the pore water of the core sinks about 0.45 dp below the open "
-                   "water in the first second (the start lattice is not graded across the stones' edge; "
+@pytest.mark.xfail(strict=True, reason="known: a body within the kernel's support of a fixed wall gets no "
+                   "pressure from the wall's share of its support (8 % for the toe unit, buoyed by 89 %; "
                    "doc/porous.md, What does not work yet)")
+def test_toe_unit_is_buoyed_as_archimedes_says(porous_settle_mdbc) -> None:
+    """The toe unit, whose kernel support reaches the impermeable bed, buoyed within 10 %
+    of Archimedes' share as the units above it."""
+    _, out = porous_settle_mdbc
+    ratios = unit_buoyancy(out, near_bed=True)
+    assert len(ratios) == 1
+    for b, r in ratios.items():
+        assert abs(r - 1.0) <= 0.10, (b, r)
+
+
+@pytest.mark.xfail(strict=True, reason="known: the pore water of the core sinks steadily below the open water, "
+                   "0.11 dp by 0.5 s and 0.43 dp as the mean of 1 to 2 s, its cause not yet found (the bed "
+                   "pressure holds: +0.3 %; doc/porous.md, What does not work yet)")
 def test_porous_core_stands_level_with_the_sea(porous_settle: Path) -> None:
     """Communicating vessels: the water in the core (gauge under the crest, mean of 1 to
     2 s) at the still-water level within 0.25 dp, and the pressure at the core's bed
