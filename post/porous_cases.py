@@ -278,6 +278,13 @@ def steady_case(d50: float, u: float, out_dir: str = "OUT", dp: float = STEADY_D
 """
 
 
+def steady_t_end(u: float) -> float:
+    """The end of the steady run at Darcy velocity u [s]: 0.6 s, or earlier, so that the
+    piston stays below the lower gauge's kernel support. The head loss is the mean of the
+    last 0.25 s."""
+    return min(0.6, 0.12 / u)
+
+
 def steady_law(u: float, d50: float, width: float) -> tuple[float, float]:
     """The head loss [Pa] of steady flow at Darcy velocity u through the layer: rho0 times
     the integral of kl(n) V + kq(n) V^2, V = u / n, over the smooth porosity profile of
@@ -375,7 +382,7 @@ def main() -> int:
         tag = "" if boundary == "dynamic" else "_mdbc"
         still = _run(binary, steady_case(0.01, 0.0, boundary=boundary), root / f"steady_still{tag}")
         for name, (d50, u) in STEADY.items():
-            t_end = min(0.6, 0.12 / u)          # the piston stays below the lower gauge's support
+            t_end = steady_t_end(u)
             out = _run(binary, steady_case(d50, u, t_end=t_end, boundary=boundary), root / f"steady_{name}{tag}")
             loss = steady_loss(out, still, t_end - 0.25, t_end)
             law, lin = steady_law(u, d50, 4.0 * STEADY_DP)

@@ -1,5 +1,6 @@
 !> Rigid-body shapes: outline, mass properties from the geometry, and the
-!> boundary particles (hollow shells of `layers` rows along the outline). In
+!> boundary particles (shells of `layers` rows along the outline, solid where
+!> the rows meet before that). In
 !> 3D a body is a box: the section's rectangle times its depth across the
 !> width, turned by angle_x about x, angle_y about y and angle about z; its
 !> outline is the section's (of a box turned out of the section, the outline
@@ -461,7 +462,7 @@ contains
                ! gets the points of the body's lattice, so that the body has no
                ! hollow the water can fill (with mDBC, which does not repel, it
                ! did, and the buoyancy fell to that of the particles' volume)
-               core = core_points(v, dp, (l - 0.75_rp)*dp)
+               core = core_points(v, dp, (l - 0.75_rp)*dp, c%angle*pi/180.0_rp)
                do k = 1, size(core, 2)
                   call push(core(:, k), nearest_edge_normal(core(:, k), v), 0)
                end do
@@ -527,25 +528,25 @@ contains
       end if
    end function inset_vertex
 
-   !> The inset polygon still has the outline's orientation and every edge
-   !> points the same way as the original one.
-   !> The points of a lattice of about dp over outline v's bounding box (as the
-   !> rows along a box's sides lie) at least dmin inside the outline.
-   pure function core_points(v, dp, dmin) result(pts)
-      real(rp), intent(in) :: v(:, :), dp, dmin
+   !> The points of a lattice of about dp over the bounding box of outline v
+   !> turned back by ang (the body's start angle: the lattice the rows along a
+   !> box's sides lie on), at least dmin inside the outline, turned with it.
+   pure function core_points(v, dp, dmin, ang) result(pts)
+      real(rp), intent(in) :: v(:, :), dp, dmin, ang
       real(rp), allocatable :: pts(:, :)
-      real(rp) :: lo(2), hi(2), pt(2)
+      real(rp) :: lo(2), hi(2), pt(2), turn(2, 2)
       integer :: i, j, nx, ny
       logical, allocatable :: keep(:, :)
       real(rp), allocatable :: pos(:, :, :)
-      lo = minval(v, dim=2)
-      hi = maxval(v, dim=2)
+      turn = reshape([cos(ang), sin(ang), -sin(ang), cos(ang)], [2, 2])
+      lo = minval(matmul(transpose(turn), v), dim=2)
+      hi = maxval(matmul(transpose(turn), v), dim=2)
       nx = max(1, nint((hi(1) - lo(1))/dp))
       ny = max(1, nint((hi(2) - lo(2))/dp))
       allocate (keep(nx, ny), pos(2, nx, ny))
       do j = 1, ny
          do i = 1, nx
-            pt = lo + ([i, j] - 0.5_rp)*(hi - lo)/[nx, ny]
+            pt = matmul(turn, lo + ([i, j] - 0.5_rp)*(hi - lo)/[nx, ny])
             pos(:, i, j) = pt
             keep(i, j) = point_in_polygon(pt, v) .and. distance_to_polygon(pt, v) >= dmin
          end do
@@ -553,6 +554,12 @@ contains
       pts = reshape(pack(pos, spread(keep, 1, 2)), [2, count(keep)])
    end function core_points
 
+   !> The inset polygon still has the outline's orientation, every edge points
+   !> the same way as the original one, and it is at least dp/2 wide on the
+   !> mean (its area over its longest side): a thinner row would crowd its
+   !> particles within half a spacing of each other (the mid-line of a box with
+   !> an odd number of rows, whose area rounding may leave just above zero, the
+   !> tip of a wedge), and the core's lattice points take its place.
    pure logical function inset_valid(v, w, dp) result(ok)
       real(rp), intent(in) :: v(:, :), w(:, :), dp
       integer :: k, j, n
@@ -566,8 +573,6 @@ contains
          ok = ok .and. dot_product(w(:, j) - w(:, k), v(:, j) - v(:, k)) > 0.0_rp
          longest = max(longest, norm2(w(:, j) - w(:, k)))
       end do
-      ! a row all of whose sides are shorter than dp/2 would crowd its particles
-      ! within half a spacing of each other: the core's lattice points take its place
-      ok = ok .and. longest >= 0.5_rp*dp
+      ok = ok .and. polygon_area(w) >= 0.5_rp*dp*longest
    end function inset_valid
 end module body_shapes

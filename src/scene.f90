@@ -103,6 +103,8 @@ contains
       end do
       call add_pore_water(c, dp, zdom, p, holes, por, cell)
       call scene_bodies(c, bodies, p)
+      ! the bodies' particles fill dp^d each as the open water's (their mass is their share of the water's)
+      cell = [cell, (dp**ndim, i = size(cell) + 1, p%n)]
       nf = count(p%kind(1:p%n) == kind_fluid)
       ybed = 0.0_rp
       ytop = 0.0_rp
@@ -116,8 +118,7 @@ contains
          p%v(:, i) = 0.0_rp
          ! the space the particle fills on its start lattice (the pores' lattice
          ! is fitted to its region, add_pore_water)
-         vol = dp**ndim
-         if (i <= size(cell)) vol = cell(i)
+         vol = cell(i)
          p%mass(i) = prm%rho0*vol
          ! a filter carries no water: massless in every pair term, the water
          ! passes it (its particles only stop bodies, through the contact)
@@ -125,8 +126,8 @@ contains
          ! still water: hydrostatic density below the surface, rho0 above
          ! (body particles take the density of the water they displace)
          p%rho(i) = eos_density_at_depth(prm, max(prm%y_surface - p%x(2, i), 0.0_rp))
-         ! 'hydrostatic': the water's volume m/rho is the dp^d each particle fills on
-         ! its start lattice (in the pores m/(n rho) = dp^d/n), not dp^d shrunk by
+         ! 'hydrostatic': the water's volume m/rho is the space each particle fills on
+         ! its start lattice (below: across the pores too), not that space shrunk by
          ! the compression of its depth: the discrete pressure gradient then holds
          ! the water up at rho g (doc/mdbc.md, "Measured")
          if (c%numerics%mass_id == mass_hydrostatic .and. p%kind(i) == kind_fluid) p%mass(i) = p%rho(i)*vol

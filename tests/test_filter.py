@@ -100,8 +100,9 @@ def rest_mdbc(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_block_rests_on_the_filter_under_water(rest) -> None:
     """At t = 2 s the block is at rest (speed below 1e-3 m/s) on the filter, no lower
     than it rests dry (it does not sink into the stones), and the water's force and the
-    contact's together carry its weight within 1 % (their means from 1.5 to 2 s; the
-    weakly compressible pressure carries a noise of about 1 %)."""
+    contact's together carry its weight within 1e-4 (their means from 1.5 to 2 s; 8e-7
+    measured). The water's share is the next test's (a known failure with this, the
+    dynamic boundary)."""
     wet = read_csv(rest[True] / "bodies.csv")
     dry = read_csv(rest[False] / "bodies.csv")
     assert abs(wet["time"][-1] - 2.0) < 0.01 and abs(dry["time"][-1] - 2.0) < 0.01
@@ -113,7 +114,7 @@ def test_block_rests_on_the_filter_under_water(rest) -> None:
     w, hgt, rho = FILTER_BOX
     fluid, contact = late_forces(wet)
     weight = rho * 9.81 * w * hgt
-    assert abs((fluid + contact) / weight - 1) < 0.01, (fluid, contact, weight)
+    assert abs((fluid + contact) / weight - 1) < 1e-4, (fluid, contact, weight)
 
 
 def late_forces(bodies) -> tuple[float, float]:
@@ -152,7 +153,7 @@ def test_water_buoys_the_block_on_the_filter_by_archimedes_with_mdbc(rest_mdbc: 
     fluid, contact = late_forces(bodies)
     archimedes = 1000.0 * 9.81 * w * hgt
     assert abs(fluid / archimedes - 1) < 0.01, (fluid, archimedes)
-    assert abs((fluid + contact) / (rho * 9.81 * w * hgt) - 1) < 0.01, (fluid, contact)
+    assert abs((fluid + contact) / (rho * 9.81 * w * hgt) - 1) < 1e-4, (fluid, contact)
 
 
 def test_water_under_the_block_keeps_its_pressure(rest) -> None:

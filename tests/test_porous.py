@@ -29,7 +29,7 @@ from conftest import assert_ok, assert_same_datasets, read_attrs, run_case, snap
 from post import hydrostatic
 from post.io import FLUID, list_snapshots, read_snapshot
 from post.porous_cases import (STEADY, STEADY_DP, G, H, N, REGIMES, T_SETTLE, TANK_DP, WIDTH, coefficients,
-                               drain_case, steady_case, steady_law, steady_loss,
+                               drain_case, steady_case, steady_law, steady_loss, steady_t_end,
                                drain_velocity, stones_tank_case, surface, terminal_velocity)
 from post.porous_waves import case as porous_waves_case
 from post.porous_waves import corrected, measure
@@ -240,7 +240,7 @@ def steady_still(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPa
 def steady_error(regime: str, still: tuple[str, Path], tmp: Path) -> tuple[float, float, float]:
     d50, u = STEADY[regime]
     boundary, reference = still
-    t_end = min(0.6, 0.12 / u)          # the piston stays below the lower gauge's support
+    t_end = steady_t_end(u)
     proc, out = run_case(steady_case(d50, u, t_end=t_end, boundary=boundary), tmp)
     assert_ok(proc)
     loss = steady_loss(out, reference, t_end - 0.25, t_end)

@@ -356,8 +356,8 @@ def unit_buoyancy(out: Path, near_bed: bool) -> dict[int, float]:
     dn, depth, rho, g, support = 0.04, 0.2, 1000.0, 9.81, 0.04
     alpha = math.atan(1 / 1.5)
     archimedes = rho * g * dn * dn * math.cos(alpha)
-    low = {int(b): y - 0.5 * dn * (math.cos(alpha) + math.sin(alpha))
-           for b, y in zip(read_armour(out / "armour.csv").body, read_armour(out / "armour.csv").y0)}
+    layer = read_armour(out / "armour.csv")
+    low = {int(b): y - 0.5 * dn * (math.cos(alpha) + math.sin(alpha)) for b, y in zip(layer.body, layer.y0)}
     return {b: fn / archimedes for b, fn in submerged_normal_forces(out, 1.0, dn, depth).items()
             if (low[b] < support) == near_bed}
 
@@ -371,12 +371,14 @@ def test_armour_rests_on_a_porous_core_with_mdbc(porous_settle_mdbc) -> None:
     their placement gaps, 0.31 to 0.63 dn, by 0.7 s. And the water under each fully
     submerged unit clear of the bed carries it as Archimedes says: the mean fluid force
     normal to the slope from 1 to 2 s within 10 % of rho g dn^2 cos(alpha), the
-    buoyancy's share along the normal (1 to 5 % below it measured)."""
+    buoyancy's share along the normal (1 to 4 % below it measured); one unit, the
+    toe's, is near the bed (the known failure below)."""
     proc, out = porous_settle_mdbc
     assert "removed" not in proc.stdout, describe(proc)
     dn = 0.04
     for b, move in moves_after(out, 1.0, 2.0).items():
         assert move <= 0.02 * dn, f"unit (body {b}) moved {move / dn:.3f} dn after 1 s"
+    assert len(unit_buoyancy(out, near_bed=True)) == 1
     ratios = unit_buoyancy(out, near_bed=False)
     assert len(ratios) >= 3
     for b, r in ratios.items():
@@ -390,14 +392,12 @@ def test_toe_unit_is_buoyed_as_archimedes_says(porous_settle_mdbc) -> None:
     """The toe unit, whose kernel support reaches the impermeable bed, buoyed within 10 %
     of Archimedes' share as the units above it."""
     _, out = porous_settle_mdbc
-    ratios = unit_buoyancy(out, near_bed=True)
-    assert len(ratios) == 1
-    for b, r in ratios.items():
+    for b, r in unit_buoyancy(out, near_bed=True).items():
         assert abs(r - 1.0) <= 0.10, (b, r)
 
 
 @pytest.mark.xfail(strict=True, reason="known: the pore water of the core sinks steadily below the open water, "
-                   "0.11 dp by 0.5 s and 0.43 dp as the mean of 1 to 2 s, its cause not yet found (the bed "
+                   "0.11 dp by 0.5 s and 0.44 dp as the mean of 1 to 2 s, its cause not yet found (the bed "
                    "pressure holds: +0.3 %; doc/porous.md, What does not work yet)")
 def test_porous_core_stands_level_with_the_sea(porous_settle: Path) -> None:
     """Communicating vessels: the water in the core (gauge under the crest, mean of 1 to

@@ -2,7 +2,7 @@
 its mean velocity against u/n, the scatter of its particles' speeds, and the mass below,
 in and above the layer at every snapshot (doc/porous.md, what does not work yet).
 
-    .venv/bin/python tools/steady_layer.py OUT/porous/steady_turbulent_mdbc --u 0.24 --from 0.25 --to 0.5
+    .venv/bin/python tools/steady_layer.py OUT/porous/steady_turbulent_mdbc/OUT --u 0.24 --from 0.25 --to 0.5
 """
 
 from __future__ import annotations

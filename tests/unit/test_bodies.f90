@@ -24,6 +24,7 @@ program test_bodies
    end do
    ! a shell of two rows: 2 (nx + ny) - 4 and 2 (nx + ny) - 12 particles
    call box_case(10, 9, 2, 2*(10 + 9) - 4 + 2*(10 + 9) - 12, 'box 10 x 9 spacings, shell of 2 rows')
+   call thin_cases()
    call wedge_case()
    call test_summary('test_bodies')
 
@@ -56,6 +57,31 @@ contains
          call check(once, trim(name)//': every lattice site once')
       end if
    end subroutine box_case
+
+   !> A box 10 x 5 spacings turned by 30 degrees (its mid-line's inset may keep a
+   !> sliver of area from rounding), and a box 10 x 3.4 spacings (its second row
+   !> would be two lines 0.4 dp apart): no two particles within 0.75 dp, and the
+   !> turned box's 50 sites all held.
+   subroutine thin_cases()
+      type(body_cfg) :: c
+      real(rp), allocatable :: xb(:, :), nb(:, :)
+      integer, allocatable :: surf(:)
+      integer :: a
+      do a = 0, 90, 15
+         c%shape_id = shape_box
+         c%width = 10*dp
+         c%height = 5*dp
+         c%angle = real(a, rp)
+         call body_particles(c, dp, 4, xb, nb, surf)
+         write (name, '("box 10 x 5 spacings turned ",i0," deg")') a
+         call check(size(xb, 2) == 50, trim(name)//': 50 particles')
+         call check(closest(xb) > 0.99_rp*dp, trim(name)//': no two particles closer than dp')
+      end do
+      c%angle = 0.0_rp
+      c%height = 3.4_rp*dp
+      call body_particles(c, dp, 4, xb, nb, surf)
+      call check(closest(xb) > 0.75_rp*dp, 'box 10 x 3.4 spacings: no two particles within 0.75 dp')
+   end subroutine thin_cases
 
    subroutine wedge_case()
       type(body_cfg) :: c
