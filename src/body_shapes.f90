@@ -534,7 +534,7 @@ contains
    pure function core_points(v, dp, dmin, ang) result(pts)
       real(rp), intent(in) :: v(:, :), dp, dmin, ang
       real(rp), allocatable :: pts(:, :)
-      real(rp) :: lo(2), hi(2), pt(2), turn(2, 2)
+      real(rp) :: lo(2), hi(2), turn(2, 2)
       integer :: i, j, nx, ny
       logical, allocatable :: keep(:, :)
       real(rp), allocatable :: pos(:, :, :)
@@ -546,9 +546,8 @@ contains
       allocate (keep(nx, ny), pos(2, nx, ny))
       do j = 1, ny
          do i = 1, nx
-            pt = matmul(turn, lo + ([i, j] - 0.5_rp)*(hi - lo)/[nx, ny])
-            pos(:, i, j) = pt
-            keep(i, j) = point_in_polygon(pt, v) .and. distance_to_polygon(pt, v) >= dmin
+            pos(:, i, j) = matmul(turn, lo + ([i, j] - 0.5_rp)*(hi - lo)/[nx, ny])
+            keep(i, j) = point_in_polygon(pos(:, i, j), v) .and. distance_to_polygon(pos(:, i, j), v) >= dmin
          end do
       end do
       pts = reshape(pack(pos, spread(keep, 1, 2)), [2, count(keep)])
@@ -563,16 +562,17 @@ contains
    pure logical function inset_valid(v, w, dp) result(ok)
       real(rp), intent(in) :: v(:, :), w(:, :), dp
       integer :: k, j, n
-      real(rp) :: longest
+      real(rp) :: longest, area
       n = size(v, 2)
-      ! the area alone: an inset that collapsed onto a line has none, and no centroid
-      ok = polygon_area(w) > 0.0_rp
+      ! the area alone (an inset that collapsed onto a line has no centroid)
+      area = polygon_area(w)
+      ok = area > 0.0_rp
       longest = 0.0_rp
       do k = 1, n
          j = modulo(k, n) + 1
          ok = ok .and. dot_product(w(:, j) - w(:, k), v(:, j) - v(:, k)) > 0.0_rp
          longest = max(longest, norm2(w(:, j) - w(:, k)))
       end do
-      ok = ok .and. polygon_area(w) >= 0.5_rp*dp*longest
+      ok = ok .and. area >= 0.5_rp*dp*longest
    end function inset_valid
 end module body_shapes
