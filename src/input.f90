@@ -8,7 +8,7 @@ module input
    use input_domain, only: domain_cfg, read_domain, write_domain
    use input_fluid, only: fluid_cfg, read_fluid, write_fluid
    use input_numerics, only: numerics_cfg, read_numerics, write_numerics
-   use input_geometry, only: geom_object, read_geometry, write_geometry, geom_zrange
+   use input_geometry, only: geom_object, read_geometry, write_geometry, geom_zrange, geom_join_slopes
    use input_body, only: body_cfg, body_zrange, contact_cfg, read_bodies, write_bodies, read_contact, write_contact
    use input_wave, only: wavemaker_cfg, gauge_cfg, damping_cfg, read_wavemaker, write_wavemaker, read_gauges, &
                          write_gauges, read_damping, write_damping, z_left_out
@@ -256,6 +256,7 @@ contains
          c%layer%first = c%layer%first + size(c%bodies)
          c%bodies = [c%bodies, units]
       end if
+      call geom_join_slopes(c%objs, c%numerics%dp)
    end subroutine expand_flume
 
    !> a = [a, b]; b is consumed.

@@ -583,29 +583,32 @@ contains
    end function scene_porous
 
    !> Rows of particles parallel to the slope line, below it (a filter: one
-   !> row); in 3D repeated across the object's width (zdom: the domain's, for
-   !> a slope without its own).
+   !> row), each ending at the slope's mitres; in 3D repeated across the
+   !> object's width (zdom: the domain's, for a slope without its own).
    subroutine add_slope(o, obj, dp, zdom, p, earlier)
       type(geom_object), intent(in) :: o, earlier(:)
       integer, intent(in) :: obj
       real(rp), intent(in) :: dp, zdom(2)
       type(particles_t), intent(inout) :: p
-      real(rp) :: a(2), b(2), t(2), nrm(2), len, ds, ps(ndim), z(2)
+      real(rp) :: a(2), b(2), t(2), nrm(2), len, ds, ps(ndim), z(2), d, s0
       integer :: i, l, ns, k, nz, m
       a = o%line(1:2)
       b = o%line(3:4)
       len = norm2(b - a)
       t = (b - a)/len
       nrm = [-t(2), t(1)]
-      ns = max(1, nint(len/dp))
-      ds = len/ns
       nz = layers_across(o, zdom, dp, z)
-      call particles_grow(p, ns*o%layers*nz)
+      call particles_grow(p, (nint(len/dp) + 2*o%layers)*o%layers*nz)
       do m = 1, nz
          ps(ndim) = z(1) + (m - 0.5_rp)*dp         ! in 2D the section's point below overwrites it
          do l = 1, o%layers
+            ! each row from mitre to mitre (geom_join_slopes), at the spacing nearest dp
+            d = (l - 0.5_rp)*dp
+            s0 = -d*tan(o%mitre(1))
+            ns = max(1, nint((len + d*tan(o%mitre(2)) - s0)/dp))
+            ds = (len + d*tan(o%mitre(2)) - s0)/ns
             along: do i = 1, ns
-               ps(1:nsec) = a + (i - 0.5_rp)*ds*t - (l - 0.5_rp)*dp*nrm
+               ps(1:nsec) = a + (s0 + (i - 0.5_rp)*ds)*t - d*nrm
                if (inside_earlier_solid(ps, earlier, zdom)) cycle along
                p%n = p%n + 1
                k = p%n

@@ -242,3 +242,44 @@ def test_dam_break_wall_pressure_has_no_single_sample_spikes(tmp_path: Path, mbs
         ratio = p.max() / mean.max()
         assert ratio <= 1.30, (f"wall pressure at y = {y} m: raw peak {p.max():.0f} Pa at "
                                f"{tm[np.argmax(p)]:.4f} s, {ratio:.2f} times the 1 ms mean's {mean.max():.0f} Pa")
+
+
+# An impermeable breakwater of the paper's profile, coarse, with no armour, in still
+# water: the bed's three solids (flat bed, 10 degree foreshore, 1:1.5 front slope) meet
+# at bends that turn toward the water, where the rows of each used to stop square and
+# leave a wedge open below the bend (1.1 to 1.2 dp between the first rows); mDBC's
+# water found it within 0.1 s (doc/mdbc.md, "Limits").
+BED_FLUME = """\
+&run case_name = 'bed_joints', t_end = 1.0, dt_out = 0.25, out_dir = 'OUT' /
+&domain xmin = 0.0, xmax = 2.2, ymin = -0.05, ymax = 0.5 /
+&fluid rho0 = 1000.0, gamma = 7.0 /
+&numerics dp = 0.01, h_over_dp = 2.0, boundary = 'mdbc' /
+&breakwater x_start = 0.05, depth = 0.3, toe_depth = 0.1, flat_length = 0.2, foreshore_angle = 10.0,
+  slope_cot = 1.5, rc = 0.065, crest_width = 0.15 /
+"""
+DP_BED = 0.01
+
+
+def test_breakwater_bed_holds_its_water_at_the_bends(tmp_path: Path, mbsph: Path) -> None:
+    """For 1 s of still water on the bed and slopes, under mDBC: no water particle is
+    lost from the domain, and none comes a third of a spacing below the bed's line,
+    the polyline through the bends (0.25, 0), (1.384, 0.2) and (1.632, 0.365)."""
+    from post.io import FLUID, list_snapshots
+    proc, out = run_case(BED_FLUME, tmp_path, binary=mbsph)
+    assert_ok(proc)
+    x_fs = 0.25
+    x_toe = x_fs + 0.2 / math.tan(math.radians(10.0))
+    xs = [0.0, x_fs, x_toe, x_toe + 1.5 * 0.165]
+    ys = [0.0, 0.0, 0.2, 0.365]
+    snaps = list_snapshots(out)
+    n0 = int((read_snapshot(snaps[0]).kind == FLUID).sum())
+    assert read_snapshot(snaps[-1]).time == pytest.approx(1.0, abs=1e-3)
+    for f in snaps:
+        s = read_snapshot(f)
+        fl = s.kind == FLUID
+        x, y = s.position[fl, 0], s.position[fl, 1]
+        below = y < np.interp(x, xs, ys) - DP_BED / 3
+        assert fl.sum() == n0, f"t = {s.time:.2f} s: {n0 - fl.sum()} water particles lost"
+        assert not below.any(), (f"t = {s.time:.2f} s: {below.sum()} water particles below the bed, "
+                                 f"at x = {np.round(x[below], 3)}")
+
