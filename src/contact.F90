@@ -89,6 +89,7 @@ contains
       call bodies_damping_reset(ct%damp, size(bodies))
       ct%max_penetration = 0.0_rp
       ct%dt_limit = huge(1.0_rp)
+      ct%dt_bodies = 0
       ct%dt_motion = huge(1.0_rp)
       ct%np = 0
       ct%nk = 0

@@ -10,7 +10,7 @@ module contact_eq
    use body_dynamics, only: body_t, body_arm
    use rigid, only: nrot
    use options, only: model_dynamic, model_repulsive, model_noncohesive, model_spring, model_hertz
-   use contact_state, only: contact_t, key_index, store_pair
+   use contact_state, only: contact_t, key_index, store_pair, contact_note_dt
    use contact_pair, only: pair_force, pair_friction, pair_viscous, velocity_at, contact_normal, partition_weight, &
                            pair_mass, body_mass
    implicit none
@@ -107,7 +107,7 @@ contains
                fn = fn + f_core
                call pair_viscous(ct, bodies, p, i, j, bi, bj, cc, n)
             end if
-            ct%dt_limit = min(ct%dt_limit, 0.3_rp*sqrt(m_ij/max(kc_pair, tiny(1.0_rp))))
+            call contact_note_dt(ct, 0.3_rp*sqrt(m_ij/max(kc_pair, tiny(1.0_rp))), bi, bj)
          end if
          if (.not. abs(fn) > 0.0_rp) cycle pairs
          if (ct%model /= model_noncohesive .or. ul <= 0.0_rp) then
@@ -117,9 +117,9 @@ contains
          ! stiffness of the static term (and of the approach term, which
          ! multiplies the same R) for the time step: d(R)/d(psi)
          kstiff = m_ij*(ct%k10b2*0.005_rp*ct%c**2/prm%h + aimp)*rp_w/rhat(ct, q)*drhat(ct, q)/(2.0_rp*prm%h)
-         ct%dt_limit = min(ct%dt_limit, 0.3_rp*sqrt(m_ij/max(kstiff, tiny(1.0_rp))))
+         call contact_note_dt(ct, 0.3_rp*sqrt(m_ij/max(kstiff, tiny(1.0_rp))), bi, bj)
          ! resolve the approach: at most 0.05 dp of closing per step
-         if (ul < 0.0_rp) ct%dt_limit = min(ct%dt_limit, 0.05_rp*prm%dp/abs(ul))
+         if (ul < 0.0_rp) call contact_note_dt(ct, 0.05_rp*prm%dp/abs(ul), bi, bj)
          call pair_force(bodies, p, i, j, bi, bj, fn*n, .true.)
          ! the slip memory of the contact, as the slip of particle i's body
          xi = 0.0_rp

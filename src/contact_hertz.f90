@@ -9,7 +9,7 @@ module contact_hertz
    use params, only: params_t
    use particles, only: particles_t
    use body_dynamics, only: body_t
-   use contact_state, only: contact_t, key_index, store_pair
+   use contact_state, only: contact_t, key_index, store_pair, contact_note_dt
    use contact_pair, only: pair_force, pair_friction, pair_viscous, body_mass, restitution, tau_pair
    implicit none
    private
@@ -117,7 +117,7 @@ contains
             kn = hertz_stiffness(bodies, bi, bj, prm%dp)
             dmax = (1.25_rp*body_mass(bodies, bi, bj)*un*un/kn)**0.4_rp
             dt_pair = 2.94_rp*dmax/(40.0_rp*abs(un))
-            ct%dt_limit = min(ct%dt_limit, dt_pair)
+            call contact_note_dt(ct, dt_pair, bi, bj)
             if (r2 < (1.5_rp*prm%dp)**2) then
                ! about to touch: counted for each of its two bodies
                napp([bi, bj]) = napp([bi, bj]) + 1
@@ -140,7 +140,7 @@ contains
       ! a face that meets a face meets in N pairs at once: N kn in parallel
       ! shorten the impact by N^(2/5) (dmax above with N kn); 40 steps of that
       do k = 1, size(bodies)
-         if (napp(k) > 1) ct%dt_limit = min(ct%dt_limit, dt1(k)*real(napp(k), rp)**(-0.4_rp))
+         if (napp(k) > 1) call contact_note_dt(ct, dt1(k)*real(napp(k), rp)**(-0.4_rp), k, k)
       end do
    end subroutine hertz_gather
 
@@ -174,7 +174,7 @@ contains
          gn = tsuji_alpha(ct, restitution(bodies, bi, bj))*sqrt(mc/(1.5_rp*sn))*sk
          fn = max(kn*overlap**1.5_rp - gn*ul, 0.0_rp)
          call pair_viscous(ct, bodies, p, i, j, bi, bj, gn, n)
-         ct%dt_limit = min(ct%dt_limit, 0.2_rp*sqrt(mc/(1.5_rp*kn*ct%kw(k))))
+         call contact_note_dt(ct, 0.2_rp*sqrt(mc/(1.5_rp*kn*ct%kw(k))), bi, bj)
          call pair_force(bodies, p, i, j, bi, bj, fn*n, .true.)
          call pair_friction(ct, bodies, p, i, j, bi, bj, n, fn, vij, spread(0.0_rp, 1, ndim))
       end do

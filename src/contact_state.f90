@@ -10,7 +10,7 @@ module contact_state
    use options, only: model_spring
    implicit none
    private
-   public :: contact_t, contact_settings_t, key_index, store_pair, store_candidate, contact_memory_set
+   public :: contact_t, contact_settings_t, key_index, store_pair, store_candidate, contact_memory_set, contact_note_dt
 
    !> The contact model a case chooses and its coefficients, as the scene
    !> builder hands them over (doc/contact.md); contact_init derives the
@@ -42,6 +42,7 @@ module contact_state
       real(rp) :: max_penetration = 0.0_rp  !< largest overlap of two surfaces in the last evaluation [m]
       real(rp) :: dt_limit = huge(1.0_rp)   !< stable step for the stiffest contact of the last evaluation [s]
       real(rp) :: dt_motion = huge(1.0_rp)  !< step in which no point of a moving body moves more than cfl h [s]
+      integer :: dt_bodies(2) = 0           !< the bodies of the contact that set dt_limit (0: a wall)
       ! Hertz: restitution e(alpha) of the damped Hertz spring on a grid of the
       ! damping number alpha (tsuji_table), inverted by interpolation
       real(rp), allocatable :: tab_alpha(:), tab_e(:)
@@ -200,4 +201,15 @@ contains
       ct%nk = 0
    end subroutine contact_memory_set
 
+
+   !> A contact's stable step dt between bodies bi and bj (0: a wall): the
+   !> contact limit is the least of them, and its bodies are kept for the log.
+   pure subroutine contact_note_dt(ct, dt, bi, bj)
+      type(contact_t), intent(inout) :: ct
+      real(rp), intent(in) :: dt
+      integer, intent(in) :: bi, bj
+      if (dt >= ct%dt_limit) return
+      ct%dt_limit = dt
+      ct%dt_bodies = [bi, bj]
+   end subroutine contact_note_dt
 end module contact_state

@@ -23,7 +23,7 @@ module solver
    use eos, only: eos_update
    use fluid_forces, only: forces_work_t, forces_ensure
    use kernel_correction, only: shepard_sums, shepard_apply
-   use step, only: step_state_t, step_advance, step_dt_ratio
+   use step, only: step_state_t, step_advance, step_dt_ratio, step_limit_names
    use bc_motion, only: walls_t
    use run_state, only: state_t, run_ctl_t
    use io_hdf5, only: h5_stop
@@ -388,7 +388,7 @@ contains
       real(rp), intent(in) :: dt_floor
       integer :: i, bad
       real(rp) :: who(1)
-      character(len=:), allocatable :: what
+      character(len=:), allocatable :: what, limiter
       what = ''
       bad = 0
       ! a count that vectorises; the particle and the field only when it finds one
@@ -420,9 +420,12 @@ contains
                     snap_name(r%out, r%st%isnap))
       end if
       if (r%st%dt < dt_floor) then
+         limiter = limit_note(r%ss)
+         if (len(limiter) == 0) limiter = 'sound speed'
          call snapshot_write(r%snaps, r%out, r%st%isnap, r%p, r%prm, r%st%t, r%st%dt, r%st%istep, r%case_text, r%bodies, r%por)
          call fatal('the time step fell to '//real_str(r%st%dt)//' s (below 1e-4 of the acoustic step) at step '// &
-                    int_str(r%st%istep)//', t = '//real_str(r%st%t)//' s: the flow has become unstable'// &
+                    int_str(r%st%istep)//', t = '//real_str(r%st%t)//' s, set by the '//limiter//' limit'// &
+                    ': the flow has become unstable'// &
                     ' (try a smaller cfl or more viscosity); last state written to '//snap_name(r%out, r%st%isnap))
       end if
    end subroutine check_state
@@ -496,6 +499,7 @@ contains
       type(run_t), intent(inout) :: r
       real(rp) :: wall, rate, eta, frac
       character(len=256) :: line
+      character(len=:), allocatable :: note
       integer :: hh, mm, secs
       wall = comm_wtime() - r%st%wall0
       rate = real(r%st%particle_steps, rp)/max(wall, 1.0e-9_rp)
@@ -513,8 +517,32 @@ contains
       write (line, '("t = ",f0.4," s  ",f5.1," %  step ",i0,"  dt ",es9.3," s  ",es9.3, &
             &" particle-steps/s  ETA ",i0,":",i2.2,":",i2.2)') r%st%t, 100.0_rp*min(frac, 1.0_rp), r%st%istep, r%st%dt, &
             rate, hh, mm, secs
-      call log_progress(trim(line))
+      ! a step set by anything but the sound speed says by what (a collapsing step, by whom)
+      note = limit_note(r%ss)
+      if (len(note) > 0) note = '  limit: '//note
+      call log_progress(trim(line)//note)
    end subroutine progress
+
+   !> What set the last step when it was not the sound speed: the limit's
+   !> name, for a contact with its two bodies ('contact of body 4 and a
+   !> wall'); '' for the sound speed.
+   function limit_note(ss) result(s)
+      type(step_state_t), intent(in) :: ss
+      character(len=:), allocatable :: s
+      s = ''
+      if (ss%limit_by < 2 .or. ss%limit_by > size(step_limit_names)) return
+      s = trim(step_limit_names(ss%limit_by))
+      if (ss%limit_by == size(step_limit_names) .and. any(ss%limit_bodies > 0)) then
+         s = s//' of '//body_name(ss%limit_bodies(1))//' and '//body_name(ss%limit_bodies(2))
+      end if
+   contains
+      function body_name(b) result(n)
+         integer, intent(in) :: b
+         character(len=:), allocatable :: n
+         n = 'a wall'
+         if (b > 0) n = 'body '//int_str(b)
+      end function body_name
+   end function limit_note
 
    subroutine summary(r)
       type(run_t), intent(inout) :: r

@@ -29,7 +29,7 @@ module step
    use comm_halo, only: halo_t, comm_halo_reverse, comm_halo_forward, comm_halo_refresh
    implicit none
    private
-   public :: step_state_t, step_advance, step_dt_ratio
+   public :: step_state_t, step_advance, step_dt_ratio, step_limit_names
 
    !> What the integrators keep from one step to the next, owned by the caller.
    type :: step_state_t
@@ -40,7 +40,15 @@ module step
       !> (1) the CFL limits (fluid, body motion), (2) every limit (contacts too)
       real(rp) :: ratio_max(2) = 0.0_rp
       integer :: ratio_step(2) = 0
+      !> the limit that set the last variable step (an index into step_limit_names),
+      !> and for a contact its bodies where this rank holds it (else 0, 0; 0: a wall)
+      integer :: limit_by = 0
+      integer :: limit_bodies(2) = 0
    end type step_state_t
+
+   !> The limits of the variable step, in the order of stage_dt's by.
+   character(len=*), parameter :: step_limit_names(*) = [character(len=18) :: 'sound speed', &
+      'fluid acceleration', 'laminar viscosity', 'stones resistance', 'body acceleration', 'body motion', 'contact']
 
 contains
 
@@ -98,7 +106,11 @@ contains
       integer, intent(in) :: istep
       real(rp), intent(out) :: dt
       real(rp) :: dt_cfl
-      ss%dt_limit = stage_dt(prm, p, w, bodies, ct, dt_cfl)
+      ss%dt_limit = stage_dt(prm, p, w, bodies, ct, dt_cfl, ss%limit_by)
+      ss%limit_bodies = 0
+      if (ss%limit_by == size(step_limit_names)) then
+         if (ct%dt_limit <= ss%dt_limit) ss%limit_bodies = ct%dt_bodies   ! this rank holds the global least
+      end if
       ! the previous step against the limits of the state it ended in
       call note_ratio(ss, ss%dt_prev, [dt_cfl, ss%dt_limit], istep - 1)
       dt = ss%dt_limit
@@ -250,15 +262,16 @@ contains
    !> bodies' accelerations and motion (dt_cfl, the CFL limits) and by the
    !> stiffest contact and fastest approach (the result: every limit). The
    !> maxima are taken over every rank at once, so every rank takes the same step.
-   real(rp) function stage_dt(prm, p, w, bodies, ct, dt_cfl) result(dt)
+   real(rp) function stage_dt(prm, p, w, bodies, ct, dt_cfl, by) result(dt)
       type(params_t), intent(in) :: prm
       type(particles_t), intent(in) :: p
       type(forces_work_t), intent(in) :: w
       type(body_t), intent(in) :: bodies(:)
       type(contact_t), intent(in) :: ct
       real(rp), intent(out) :: dt_cfl
+      integer, intent(out), optional :: by       !< which limit set dt (step_limit_names)
       integer, parameter :: n_maxima = 6
-      real(rp) :: a2, m(n_maxima), amax2, cmax
+      real(rp) :: a2, m(n_maxima), amax2, cmax, lim(size(step_limit_names))
       amax2 = 0.0_rp
       cmax = prm%c0
       call fluid_maxima(p%n_own, p%kind, w%acc, w%cs, amax2, cmax)
@@ -268,18 +281,21 @@ contains
       if (size(bodies) > 0) m(4:5) = [-ct%dt_limit, -ct%dt_motion]
       if (prm%porous) m(6) = porous_rate_max(p%n_own, p%kind, w%por, p%v)
       call comm_max(m)
-      dt_cfl = prm%h/(m(2) + m(3))
-      if (m(1) > 0.0_rp) dt_cfl = min(dt_cfl, sqrt(prm%h/sqrt(m(1))))
-      dt_cfl = prm%cfl*dt_cfl
-      if (prm%visc == visc_laminar_sps .and. prm%nu > 0.0_rp) dt_cfl = min(dt_cfl, 0.125_rp*prm%h2/prm%nu)
+      lim = huge(1.0_rp)
+      lim(1) = prm%cfl*prm%h/(m(2) + m(3))
+      if (m(1) > 0.0_rp) lim(2) = prm%cfl*sqrt(prm%h/sqrt(m(1)))
+      if (prm%visc == visc_laminar_sps .and. prm%nu > 0.0_rp) lim(3) = 0.125_rp*prm%h2/prm%nu
       ! the stones' resistance, explicit: a step below half its relaxation time
-      if (m(6) > 0.0_rp) dt_cfl = min(dt_cfl, 0.5_rp/m(6))
-      dt = dt_cfl
-      if (size(bodies) == 0) return
-      a2 = bodies_accel2(bodies)
-      if (a2 > 0.0_rp) dt_cfl = min(dt_cfl, prm%cfl*sqrt(prm%h/sqrt(a2)))
-      dt_cfl = min(dt_cfl, -m(5))
-      dt = min(dt_cfl, -m(4))
+      if (m(6) > 0.0_rp) lim(4) = 0.5_rp/m(6)
+      if (size(bodies) > 0) then
+         a2 = bodies_accel2(bodies)
+         if (a2 > 0.0_rp) lim(5) = prm%cfl*sqrt(prm%h/sqrt(a2))
+         lim(6) = -m(5)
+         lim(7) = -m(4)
+      end if
+      dt_cfl = minval(lim(1:6))
+      dt = minval(lim)
+      if (present(by)) by = minloc(lim, dim=1)
    end function stage_dt
 
    !> The largest squared acceleration and sound speed of the fluid among
