@@ -237,45 +237,56 @@ contains
       type(geom_object), intent(inout) :: objs(:)
       real(rp), intent(in) :: dp
       integer :: k, e, next(size(objs)), prev(size(objs))
-      real(rp) :: t(2), te(2), half, tol
+      real(rp) :: half
       next = 0
       prev = 0
-      do k = 1, size(objs)
-         if (.not. joins(k)) cycle
-         tol = 1.0e-9_rp*max(1.0_rp, maxval(abs(objs(k)%line)))
-         do e = 1, size(objs)
-            if (e == k .or. prev(e) /= 0 .or. .not. joins(e)) cycle
-            if (objs(e)%layers /= objs(k)%layers .or. objs(e)%motion_id /= objs(k)%motion_id) cycle
-            if (any(abs(objs(e)%zr - objs(k)%zr) > tol)) cycle
-            if (any(abs(objs(e)%line(1:2) - objs(k)%line(3:4)) > tol)) cycle
-            t = along(objs(k)%line)
-            te = along(objs(e)%line)
-            half = 0.5_rp*atan2(t(1)*te(2) - t(2)*te(1), dot_product(t, te))
-            if (abs(half) > 0.25_rp*acos(-1.0_rp)) cycle
+      slopes: do k = 1, size(objs)
+         if (.not. solid_slope(objs(k))) cycle slopes
+         followers: do e = 1, size(objs)
+            if (e == k .or. prev(e) /= 0 .or. .not. solid_slope(objs(e))) cycle followers
+            if (.not. continues(objs(k), objs(e))) cycle followers
+            half = 0.5_rp*turn_angle(along(objs(k)%line), along(objs(e)%line))
+            if (abs(half) > 0.25_rp*acos(-1.0_rp)) cycle followers
             next(k) = e
             prev(e) = k
             objs(k)%mitre(2) = half
             objs(e)%mitre(1) = half
-            exit
-         end do
-      end do
+            exit followers
+         end do followers
+      end do slopes
       ! a slope whose deepest row would not reach past its mitres keeps square ends
       do k = 1, size(objs)
-         if (.not. joins(k)) cycle
+         if (.not. solid_slope(objs(k))) cycle
          if (row_length(objs(k), objs(k)%layers*dp) >= dp) cycle
          if (prev(k) /= 0) objs(prev(k))%mitre(2) = 0.0_rp
          if (next(k) /= 0) objs(next(k))%mitre(1) = 0.0_rp
          objs(k)%mitre = 0.0_rp
       end do
       do k = 1, size(objs)
-         if (joins(k)) call slope_outline(objs(k), objs(k)%layers*dp)
+         if (solid_slope(objs(k))) call slope_outline(objs(k), objs(k)%layers*dp)
       end do
-   contains
-      logical function joins(j)
-         integer, intent(in) :: j
-         joins = objs(j)%group == 'slope' .and. objs(j)%role_id == role_solid
-      end function joins
    end subroutine geom_join_slopes
+
+   pure logical function solid_slope(o)
+      type(geom_object), intent(in) :: o
+      solid_slope = o%group == 'slope' .and. o%role_id == role_solid
+   end function solid_slope
+
+   !> Whether slope b starts where slope a ends, with as many rows, the same
+   !> width and the same motion.
+   pure logical function continues(a, b)
+      type(geom_object), intent(in) :: a, b
+      real(rp) :: tol
+      tol = 1.0e-9_rp*max(1.0_rp, maxval(abs(a%line)))
+      continues = b%layers == a%layers .and. b%motion_id == a%motion_id .and. &
+                  all(abs(b%zr - a%zr) <= tol) .and. all(abs(b%line(1:2) - a%line(3:4)) <= tol)
+   end function continues
+
+   !> The signed angle from direction t to direction u (> 0 counter-clockwise) [rad].
+   pure real(rp) function turn_angle(t, u) result(a)
+      real(rp), intent(in) :: t(2), u(2)
+      a = atan2(t(1)*u(2) - t(2)*u(1), dot_product(t, u))
+   end function turn_angle
 
    pure function along(line) result(t)
       real(rp), intent(in) :: line(4)
