@@ -69,8 +69,19 @@ def groups(nml: f90nml.Namelist, name: str) -> list[f90nml.Namelist]:
 
 def wall_layers(nml: f90nml.Namelist) -> int:
     """Rows of boundary particles that cover the kernel support 2h: ceil(2 h/dp)."""
-    h_over_dp = float(nml["numerics"].get("h_over_dp", math.sqrt(2.0)))
-    return max(1, math.ceil(2.0 * h_over_dp - 1e-9))
+    return max(1, math.ceil(2.0 * h_over_dp_of(nml) - 1e-9))
+
+
+def h_over_dp_of(nml: f90nml.Namelist) -> float:
+    """The case's h/dp: its own, else the solver's default, which is 1.6 in a case with a
+    wavemaker and neither bodies nor porous regions (doc/input.md, "Wave defaults") and
+    sqrt 2 otherwise."""
+    from post.wave_cases import WAVE_H_OVER_DP
+    if "h_over_dp" in nml["numerics"]:
+        return float(nml["numerics"]["h_over_dp"])
+    porous = "porous" in nml or str(nml.get("breakwater", {}).get("core", "")).lower() == "porous"
+    flume = "wavemaker" in nml and "body" not in nml and "armour" not in nml and not porous
+    return WAVE_H_OVER_DP if flume else math.sqrt(2.0)
 
 
 def _r(x: float) -> float:

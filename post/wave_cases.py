@@ -13,6 +13,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 G = 9.81
+# the solver's smoothing length / dp in a case with a wavemaker that leaves it out (doc/input.md,
+# "Wave defaults"): the walls' thickness follows it
+WAVE_H_OVER_DP = 1.6
 
 
 def period_for_kh(kh: float, depth: float, g: float = G) -> float:
@@ -44,8 +47,12 @@ class Flume:
 
 
 def _run_to_numerics(case_name: str, t_end: float, T: float, out_dir: str, extra_run: str, xmax: float,
-                     thick: float, top: float, dp: float, h_over_dp: float | None, extra_numerics: str) -> str:
-    """The &run, &domain, &fluid and &numerics groups every flume of this module shares."""
+                     thick: float, top: float, dp: float, h_over_dp: float | None, extra_numerics: str,
+                     viscosity: str | None = "artificial") -> str:
+    """The &run, &domain, &fluid and &numerics groups every flume of this module shares;
+    ``viscosity = None`` leaves the viscosity to the solver (its wave default)."""
+    visc = {"artificial": "\n  viscosity = 'artificial', alpha = 0.01", None: ""}.get(
+        viscosity, f"\n  viscosity = '{viscosity}'")
     return f"""&run
   case_name = '{case_name}'
   t_end = {t_end:.6f}
@@ -62,8 +69,7 @@ def _run_to_numerics(case_name: str, t_end: float, T: float, out_dir: str, extra
   rho0 = 1000.0, gamma = 7.0, coef = 10.0, gravity = {G}
 /
 &numerics
-  dp = {dp}{"" if h_over_dp is None else f"{chr(10)}  h_over_dp = {h_over_dp}"}
-  viscosity = 'artificial', alpha = 0.01
+  dp = {dp}{"" if h_over_dp is None else f"{chr(10)}  h_over_dp = {h_over_dp}"}{visc}
   diffusion = 'fourtakas', delta = 0.1
 {extra_numerics}
 /
@@ -75,12 +81,14 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
                damping_len: float = 1.5, periods_after: float = 4.0, extra_run: str = "",
                extra_numerics: str = "", case_name: str = "waves", second_order: bool = False,
                ramp_periods: float = 2.0, t_end: float | None = None, h_over_dp: float | None = None,
-               extra_wavemaker: str = "") -> Flume:
+               extra_wavemaker: str = "", viscosity: str | None = "artificial") -> Flume:
     """A regular-wave flume: the paddle, then gauges at the given multiples of the
     wavelength L, then a damping zone damping_len L long. The run lasts until the
     wave front (group speed) has passed the last gauge and periods_after more periods.
-    ``h_over_dp`` is written to ``&numerics`` when given (else the solver's default,
-    sqrt 2); the bed and end wall are as thick as its kernel's reach. With ``damping_len = 0``
+    ``h_over_dp`` is written to ``&numerics`` when given (else the solver's default for
+    a case with a wavemaker, 1.6, doc/input.md "Wave defaults"); the bed and end wall are
+    as thick as its kernel's reach. ``viscosity``: 'artificial' (alpha 0.01), another
+    model's name, or None for the solver's wave default. With ``damping_len = 0``
     the flume ends in a bare vertical wall (no &damping group); ``extra_wavemaker`` goes
     into the &wavemaker group."""
     T = period_for_kh(kh, depth)
@@ -90,7 +98,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
     n1 = 0.5 * (1.0 + 2.0 * kh / math.sinh(2.0 * kh))
     cg = n1 * L / T
     # bed and end wall as thick as the kernel's reach (2h), so no water leaks through them
-    layers = math.ceil(2.0 * (math.sqrt(2.0) if h_over_dp is None else h_over_dp) - 1e-9)
+    layers = math.ceil(2.0 * (WAVE_H_OVER_DP if h_over_dp is None else h_over_dp) - 1e-9)
     thick = layers * dp
     x0 = 0.11 + thick          # room for the paddle moving max_stroke/2 = 0.1 m back
     x_end = x0 + (max(gauges_at) + 0.25 + damping_len) * L
@@ -105,7 +113,7 @@ def flume_case(kh: float, *, depth: float = 0.25, steepness: float = 0.03, dp: f
 ! T = {T:.6f} s, L = {L:.6f} m, H = {H:.6f} m (steepness H/L = {steepness}).
 ! Gauges at {', '.join(str(a) for a in gauges_at)} wavelengths from the paddle; damping zone
 ! over the last {damping_len} L. Made by post/wave_cases.py.
-{_run_to_numerics(case_name, t_end, T, out_dir, extra_run, x_end + thick + 0.01, thick, top, dp, h_over_dp, extra_numerics)}&box role = 'solid', xmin = 0.0, xmax = {x_end + thick:.6f}, ymin = {-thick:.6f}, ymax = 0.0 /
+{_run_to_numerics(case_name, t_end, T, out_dir, extra_run, x_end + thick + 0.01, thick, top, dp, h_over_dp, extra_numerics, viscosity)}&box role = 'solid', xmin = 0.0, xmax = {x_end + thick:.6f}, ymin = {-thick:.6f}, ymax = 0.0 /
 &box role = 'solid', xmin = {x_end:.6f}, xmax = {x_end + thick:.6f}, ymin = 0.0, ymax = {top:.6f} /
 &box role = 'fluid', xmin = {x0:.6f}, xmax = {x_end:.6f}, ymin = 0.0, ymax = {depth:.6f} /
 &wavemaker
@@ -156,7 +164,7 @@ def absorption_case(kh: float, *, depth: float = 0.25, steepness: float = 0.02, 
     cg = 0.5 * (1.0 + 2.0 * kh / math.sinh(2.0 * kh)) * L / T
     hs = biesel_transfer(kh, "piston")
     amp = 0.5 * H / hs
-    h = (math.sqrt(2.0) if h_over_dp is None else h_over_dp) * dp
+    h = (WAVE_H_OVER_DP if h_over_dp is None else h_over_dp) * dp
     layers = math.ceil(2.0 * h / dp - 1e-9)
     thick = layers * dp
     x0 = 0.11 + thick

@@ -360,6 +360,7 @@ contains
       if (r%prm%kgc == kgc_gradient) fx = fx//', kernel gradient correction'
       if (r%prm%kgc == kgc_shepard) fx = fx//', Shepard filter every '//int_str(r%prm%shepard_every)//' steps'
       if (r%prm%boundary == bnd_repulsive) fx = fx//', repulsive-force boundary'
+      if (r%prm%boundary == bnd_mdbc) fx = fx//', modified dynamic boundary (mDBC)'
       if (r%walls%moving) fx = fx//', moving boundaries'
       if (c%wavemaker%on) fx = fx//', wavemaker ('//trim(c%wavemaker%paddle)//', '//trim(c%wavemaker%wave)//')'
       if (r%zone%on) fx = fx//', damping zone x = '//real_str(r%zone%x0)//' to '//real_str(r%zone%x1)// &
@@ -375,6 +376,10 @@ contains
       if (r%por%on) fx = fx//', '//int_str(size(r%por%r))//' porous region'//trim(merge('s', ' ', size(r%por%r) > 1))// &
                          ' (porosity '//real_str(minval(r%por%r%n))//' to '//real_str(maxval(r%por%r%n))//')'
       call log_line('  effects on: '//fx)
+      if (allocated(c%wave_defaults)) then
+         if (len(c%wave_defaults) > 0) call log_line('  wave numerics (a wave flume that leaves them out): '// &
+                                                     c%wave_defaults//' (doc/input.md, "Wave defaults")')
+      end if
       if (len(r%wave_report) > 0) call log_line(r%wave_report)
       if (c%armour%on) call log_line('  armour: '//int_str(c%layer%n_units)//' '//trim(c%armour%placement)// &
          ' units of dn = '//real_str(c%armour%dn)//' m, density '//real_str(c%armour%density)// &

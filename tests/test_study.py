@@ -216,14 +216,14 @@ def test_wave_flume_follows_dp(tmp_path: Path) -> None:
     assert math.isclose((fluid["ymax"] - fluid["ymin"]) / dp, 15.0, rel_tol=1e-9)
     n = (fluid["xmax"] - fluid["xmin"]) / dp
     assert abs(n - round(n)) < 1e-6
-    # floor and end wall three rows thick, the damping zone ends at the wall; the paddle
-    # moved to 0.1 m + 3 dp + 1 mm (room for its rows and stroke), gauges and damping zone
-    # as far from it as in the base file
-    assert math.isclose(floor["ymax"] - floor["ymin"], 3 * dp, rel_tol=1e-9)
-    assert math.isclose(wall["xmax"] - wall["xmin"], 3 * dp, rel_tol=1e-9) and wall["xmin"] == fluid["xmax"]
+    # floor and end wall four rows thick (2h at the wave flume's h = 1.6 dp), the damping
+    # zone ends at the wall; the paddle moved to 0.1 m + 4 dp + 1 mm (room for its rows and
+    # stroke), gauges and damping zone as far from it as in the base file
+    assert math.isclose(floor["ymax"] - floor["ymin"], 4 * dp, rel_tol=1e-9)
+    assert math.isclose(wall["xmax"] - wall["xmin"], 4 * dp, rel_tol=1e-9) and wall["xmin"] == fluid["xmax"]
     assert nml["damping"]["x1"] == fluid["xmax"]
     x0 = nml["wavemaker"]["x0"]
-    assert x0 == fluid["xmin"] and math.isclose(x0, 0.1 + 3 * dp + 1e-3, rel_tol=1e-9)
+    assert x0 == fluid["xmin"] and math.isclose(x0, 0.1 + 4 * dp + 1e-3, rel_tol=1e-9)
     base = f90nml.read(str(ROOT / "input" / "waves_regular.nml"))
     for g, g0 in zip(nml["gauge"], base["gauge"]):
         assert math.isclose(g["x"] - x0, g0["x"] - base["wavemaker"]["x0"], abs_tol=1e-9)

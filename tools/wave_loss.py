@@ -118,7 +118,7 @@ def cmd_heights(a: argparse.Namespace) -> None:
           f"({100 * (1 - math.exp(-fit.kappa * L)):.2f} % per L), Kr {fit.Kr:.3f}, "
           f"k/k_linear {fit.k * L / (2.0 * math.pi):.4f}")
     # crest to trough: the first harmonic times the mean ratio of the gauges from 2 L (as the tests)
-    for xl in (x for x in (2.0, 3.0, 4.0) if x * L <= xs.max() + 0.01 * L):
+    for xl in (x for x in (2.0, 3.0, 4.0, 5.0, 6.0) if x * L <= xs.max() + 0.01 * L):
         print(f"  incident wave at {xl} L: {100 * (fit.height(xl * L) / H - 1):+.2f} % (first harmonic), "
               f"{100 * (fit.height(xl * L) * float(np.mean(ratios)) / H - 1):+.2f} % (crest to trough)")
 
