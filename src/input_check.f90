@@ -10,7 +10,8 @@ module input_check
    use geom, only: polygon_area, polygon_self_intersects
    implicit none
    private
-   public :: open_case, scan_groups, group_count, read_failed, read_failed_open, check_real, check_int, checked_outline, &
+   public :: open_case, scan_groups, group_count, var_given, read_failed, read_failed_open, check_real, check_int, &
+             checked_outline, &
              lower, real_str, int_str, approx_str
 
    character(len=*), parameter :: known_groups(*) = [character(len=16) :: &
@@ -233,6 +234,15 @@ contains
          call input_error(file, group, '', 'cannot read the group: '//trim(msg))
       end if
    end function read_failed
+
+   !> Whether the case file assigns variable var (lower case) in a group of that name.
+   logical function var_given(file, group, var) result(given)
+      character(len=*), intent(in) :: file, group, var
+      type(assign_t), allocatable :: a(:)
+      character(len=msg_len) :: err
+      call syntax_scan(file, a, err)
+      given = any(a%group == lower(group) .and. a%var == var)
+   end function var_given
 
    !> The variable of group whose value (as written) ends with the text tok,
    !> and that value; blank when there is none.

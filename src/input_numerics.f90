@@ -2,13 +2,12 @@
 module input_numerics
    use kinds, only: rp
    use constants, only: name_len, msg_len, ndim
-   use input_check, only: open_case, read_failed, check_real, check_int, group_count
+   use input_check, only: open_case, read_failed, check_real, check_int, group_count, var_given, lower
    use options, only: option_index, kernel_names, integ_names, visc_names, bnd_names, diff_names, kgc_names, &
                       kernel_wendland, integ_symplectic, visc_artificial, bnd_dynamic, bnd_repulsive, diff_none, &
                       diff_fourtakas, kgc_none, kgc_gradient, slip_names, slip_wall, shift_names, shift_none, &
                       mass_names, mass_rho0
-   use input_syntax, only: assign_t, syntax_scan
-   use errors, only: input_error, fatal
+   use errors, only: input_error
    implicit none
    private
    public :: numerics_cfg, read_numerics, write_numerics
@@ -84,8 +83,8 @@ contains
    !> regions: bodies keep the numerics their contact is validated with, the
    !> pores' terms need h = 2 dp without the gradient correction);
    !> keep_dynamic: the boundary stays 'dynamic' (the contact model 'dynamic'
-   !> needs it; an absorbing paddle is tuned with it). applied: the wave defaults the case took ('name = value, ...';
-   !> '' for none).
+   !> needs it; an absorbing paddle is tuned with it). applied: the wave
+   !> defaults the case took ('name = value, ...'; '' for none).
    subroutine read_numerics(file, c, waves, keep_dynamic, applied)
       character(len=*), intent(in) :: file
       type(numerics_cfg), intent(out) :: c
@@ -167,10 +166,6 @@ contains
       type(numerics_cfg), intent(inout) :: c
       logical, intent(in) :: keep_dynamic
       character(len=:), allocatable, intent(inout) :: applied
-      type(assign_t), allocatable :: a(:)
-      character(len=msg_len) :: err
-      call syntax_scan(file, a, err)
-      if (len_trim(err) > 0) call fatal(trim(err))
       if (.not. given('boundary') .and. .not. keep_dynamic) then
          c%boundary = 'mdbc'
          applied = applied//", boundary = 'mdbc'"
@@ -180,11 +175,11 @@ contains
          applied = applied//', h_over_dp = 1.6'
       end if
       ! the gradient correction needs the walls' pressure (not the repulsive boundary)
-      if (.not. given('kernel_correction') .and. trim(c%boundary) /= 'repulsive') then
+      if (.not. given('kernel_correction') .and. lower(trim(c%boundary)) /= 'repulsive') then
          c%kernel_correction = 'gradient'
          applied = applied//", kernel_correction = 'gradient'"
       end if
-      if (.not. given('kgc_continuity') .and. trim(c%kernel_correction) == 'gradient') then
+      if (.not. given('kgc_continuity') .and. lower(trim(c%kernel_correction)) == 'gradient') then
          c%kgc_continuity = .false.
          applied = applied//', kgc_continuity = .false.'
       end if
@@ -196,7 +191,7 @@ contains
    contains
       logical function given(var)
          character(len=*), intent(in) :: var
-         given = any(a%group == 'numerics' .and. a%var == var)
+         given = var_given(file, 'numerics', var)
       end function given
    end subroutine take_wave_defaults
 
