@@ -4,6 +4,7 @@ Functions (each takes plain arrays, so tests call them on synthetic signals):
 
 - :func:`read_gauges`: the gauge table, the time and the columns of ``gauges.csv``;
 - :func:`wavenumber`: linear dispersion ``omega^2 = g k tanh(k h)`` solved for ``k``;
+- :func:`target_elevation_at`: a target elevation at the paddle carried to a gauge by linear dispersion;
 - :func:`zero_crossing`: zero-up-crossing wave heights and periods, ``H_1/3``, ``Hmax``, ``T_mean``;
 - :func:`spectrum`: variance density by Welch's method with Hann windows, ``Hm0``, ``Tp``,
   ``Tm-1,0``, ``Tm02``;
@@ -46,6 +47,7 @@ __all__ = [
     "gauge_column",
     "wavenumber",
     "wavelength",
+    "target_elevation_at",
     "ZeroCrossing",
     "zero_crossing",
     "Spectrum",
@@ -184,6 +186,25 @@ def wavelength(period: float | np.ndarray, depth: float, g: float = G) -> np.nda
 
 
 # ------------------------------------------------------------------ time domain
+
+
+def target_elevation_at(t: np.ndarray, x: float, signal_time: np.ndarray, signal_eta: np.ndarray,
+                        x0: float, depth: float, g: float = G) -> np.ndarray:
+    """The target elevation ``signal_eta(signal_time)`` at the paddle (x0), uniformly
+    sampled and taken as periodic over its length, carried to ``x`` component by
+    component by linear dispersion at the still-water depth, at the times ``t``: the
+    wave a perfect flume makes there, to compare a gauge with over the same window."""
+    n = len(signal_time)
+    dt = signal_time[1] - signal_time[0]
+    c = np.fft.rfft(signal_eta) / n
+    f = np.arange(1, len(c)) / (n * dt)
+    k = wavenumber(2.0 * math.pi * f, depth, g)
+    out = np.empty(len(t))
+    for a in range(0, len(t), 2000):  # in blocks: the matrix is samples x components
+        tb = t[a:a + 2000]
+        ph = np.exp(1j * (2.0 * math.pi * f[None, :] * tb[:, None] - k[None, :] * (x - x0)))
+        out[a:a + 2000] = 2.0 * np.real(ph @ c[1:])
+    return out
 
 
 def _uniform(t: np.ndarray, eta: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:

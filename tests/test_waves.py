@@ -709,35 +709,60 @@ def test_regular_wave_height_2_to_4_wavelengths(case: str, tmp_path: Path, mbsph
         assert abs(e) < bar, f"{case}: height {e:+.2%} at {a} L (bar {bar:.0%}); {report}"
 
 
-def test_plain_continuity_keeps_the_water_volume(tmp_path: Path, mbsph: Path) -> None:
-    """Irregular waves (input/waves_irregular.nml: gradient correction, and the plain
-    kernel gradient in the continuity equation, `kgc_continuity = .false.`): the density
-    that the continuity equation carries stays that of the particles' packing (their
-    kernel sum), so the water keeps its volume and the mean level does not sink.
+@pytest.mark.long
+def test_irregular_sea_keeps_its_height_and_its_volume(tmp_path: Path, mbsph: Path) -> None:
+    """The JONSWAP sea of input/waves_irregular.nml (Hs 0.04 m, Tp 1 s, 12.5 particles
+    over the depth, the solver's wave defaults, 36 s) against the wave it was asked for:
+    at each gauge, Hm0 over 8 to 36 s (0.5 to 3 fp) against that of the solver's own
+    target elevation at the paddle (build/jonswap_signal) carried to the gauge by linear
+    dispersion over the same window, so that like is compared with like (a 28 s window of
+    a perfect flume holds 0.79 to 1.26 Hs; doc/waves.md, "Measured: irregular waves").
+    Issue 18's bar: within 5 % at both gauges; measured -2.2 and -3.2 %.
 
-    Measured over 20 s (this test's steps, on the case at h = 1.6 dp): kernel sum against
-    carried density at mid-depth -0.44 %, mean level at the two gauges +1.7 and +1.1 mm.
-    With the corrected gradient in the continuity equation (the default) the kernel sum
-    is +3.5 % at 18 s and the level -5 mm over 16 to 20 s (doc/waves.md, "The corrected
-    continuity equation", measured at h = sqrt 2 dp). Bars: 1 % and 3 mm."""
+    And the water keeps its volume (the plain kernel gradient in the continuity
+    equation, one of the wave defaults): the mean level at each gauge moves by less than
+    1 mm between the two halves of the window (measured +0.39 and +0.35 mm; 14 peak
+    periods each), and the kernel sum at mid-depth at 36 s is within 1 % of the carried
+    density (measured -0.79 %; -0.52 % at 18 s). With the corrected gradient in the
+    continuity equation the kernel sum rose 5.7 % by 36 s at h = 1.6 dp and the level
+    sank 4.5 mm (doc/waves.md, "The corrected continuity equation")."""
+    import subprocess
+
     import numpy as np
     from post.interp import mass_sum
     from post.io import list_snapshots, read_snapshot
+    from post.waves import read_gauges, spectrum, target_elevation_at
+    signal_tool = ROOT / "build" / "jonswap_signal"
+    assert signal_tool.exists(), "build/jonswap_signal is missing (make unit builds it)"
     text = (ROOT / "input" / "waves_irregular.nml").read_text()
-    text = text.replace("t_end = 36.000000", "t_end = 20.0")
     text = re.sub(r"out_dir\s*=\s*'[^']*'", "out_dir = 'OUT'", text)
-    assert "t_end = 20.0" in text and "kgc_continuity = .false." in text
-    proc, out = run_case(text, tmp_path, binary=mbsph, name=CASE)
+    for name in ("boundary", "h_over_dp", "kernel_correction", "kgc_continuity", "viscosity"):
+        assert re.search(rf"^\s*{name}\s*=", text, re.M) is None, f"the case sets {name}: it is to test the defaults"
+    proc, out = run_case(text, tmp_path, binary=mbsph, name=CASE, timeout=1800.0)
     assert_ok(proc)
-    d = read_gauges_csv(out)
-    m = d["time"] >= 8.0
-    for name in ("eta_1", "eta_2"):
-        level = float(np.mean(d[name][m]))
-        assert abs(level) < 3.0e-3, f"{name}: mean level {level * 1e3:.1f} mm over 8 to 20 s"
-    # kernel sum of the last snapshot at mid-depth, against the density carried
+    assert "wave numerics (a wave flume that leaves them out): boundary = 'mdbc'" in proc.stdout
+    sig = subprocess.run([str(signal_tool), "0.04", "1.0", "3.3", "0.25", "1", "36"], capture_output=True,
+                         text=True, check=True).stdout.splitlines()
+    sig_t, _, sig_eta = np.array([[float(v) for v in line.split(",")] for line in sig[1:]]).T
+    gauges, t, cols = read_gauges(out / "gauges.csv")
+    sel = t >= 8.0
+    tt = t[sel]
+    half = tt < 22.0
+    errors = {}
+    for g in gauges:
+        y = cols[g.column][sel]
+        ref = target_elevation_at(tt, g.x, sig_t, sig_eta, 0.17, 0.25)
+        errors[g.id] = spectrum(tt, y, fmin=0.5, fmax=3.0).Hm0 / spectrum(tt, ref, fmin=0.5, fmax=3.0).Hm0 - 1.0
+        shift = float(np.mean(y[~half]) - np.mean(y[half]))
+        assert abs(shift) < 1.0e-3, f"gauge {g.id}: mean level moved {shift * 1e3:+.2f} mm from 8-22 s to 22-36 s"
+    assert len(errors) == 2
+    report = ", ".join(f"gauge {k} {e:+.1%}" for k, e in errors.items())
+    print(f"irregular sea: Hm0 against the target over 8 to 36 s: {report}")
+    for k, e in errors.items():
+        assert abs(e) < 0.05, f"Hm0 {e:+.1%} of the target at gauge {k} (bar 5 %); {report}"
     snap = read_snapshot(list_snapshots(out)[-1])
     x = snap.position
-    sel = snap.fluid & (x[:, 0] > 0.6) & (x[:, 0] < 1.6) & (x[:, 1] > 0.05) & (x[:, 1] < 0.15)
-    assert sel.sum() > 200
-    ratio = mass_sum(snap, x[sel]).mean() / snap.density[sel].mean() - 1.0
-    assert abs(ratio) < 0.01, f"kernel sum against carried density: {ratio:+.2%}"
+    mid = snap.fluid & (x[:, 0] > 0.6) & (x[:, 0] < 1.6) & (x[:, 1] > 0.05) & (x[:, 1] < 0.15)
+    assert mid.sum() > 200
+    ratio = mass_sum(snap, x[mid]).mean() / snap.density[mid].mean() - 1.0
+    assert abs(ratio) < 0.01, f"kernel sum against carried density at {snap.time:.1f} s: {ratio:+.2%}"

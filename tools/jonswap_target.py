@@ -29,17 +29,7 @@ from post.io import read_csv  # noqa: E402
 
 def target_at(t: np.ndarray, x: float, signal: dict, x0: float, depth: float) -> np.ndarray:
     """The periodic target elevation of ``signal`` (at the paddle, x0) carried to x."""
-    n = len(signal["time"])
-    dt = signal["time"][1] - signal["time"][0]
-    c = np.fft.rfft(signal["eta"]) / n
-    f = np.arange(1, len(c)) / (n * dt)
-    k = waves.wavenumber(2.0 * math.pi * f, depth)
-    out = np.empty(len(t))
-    for a in range(0, len(t), 2000):  # in blocks: the matrix is samples x components
-        tb = t[a:a + 2000]
-        ph = np.exp(1j * (2.0 * math.pi * f[None, :] * tb[:, None] - k[None, :] * (x - x0)))
-        out[a:a + 2000] = 2.0 * np.real(ph @ c[1:])
-    return out
+    return waves.target_elevation_at(t, x, signal["time"], signal["eta"], x0, depth)
 
 
 def window_spread(signal: dict, window: float, fmin: float, fmax: float, draws: int = 400) -> None:
