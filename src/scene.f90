@@ -323,64 +323,110 @@ contains
                   p%nrm(:, k) = 0.0_rp
                   p%surf(k) = 0
                else
-                  call solid_particle(k, pt)
+                  call solid_particle(o, obj, objs, dp, zdom, z, pt, k, p)
                end if
                p%nb(:, k) = p%nrm(:, k)
             end do columns
          end do
       end do across
-   contains
-      !> Particle k, at pt in the section, is of the solid: its kind, body and
-      !> normal; the outer layer is the surface (contact, repulsive boundary), near a
-      !> vertex a corner; a side covered by another solid is no surface (in 3D the
-      !> section's normal: the faces across the width have none yet, doc/3d.md).
-      subroutine solid_particle(k, pt)
-         integer, intent(in) :: k
-         real(rp), intent(in) :: pt(2)
-         real(rp) :: n2(2)
-         p%kind(k) = merge(kind_moving, kind_fixed, o%motion_id /= wall_fixed)
-         p%body(k) = obj
-         n2 = nearest_edge_normal(pt, o%v)
-         p%surf(k) = 0
-         if (exposed_edge(pt, n2)) then
-            p%surf(k) = 1
-            if (minval(hypot(o%v(1, :) - pt(1), o%v(2, :) - pt(2))) < dp) p%surf(k) = 2
-         end if
-         p%nrm(:, k) = 0.0_rp
-         p%nrm(1:nsec, k) = n2
-      end subroutine solid_particle
-
-      !> Among the edges of o less than dp from pt, the nearest (the first on a
-      !> tie) whose outside one spacing away is not inside another solid: its
-      !> outward normal goes to n. False when there is none.
-      logical function exposed_edge(pt, n) result(found)
-         real(rp), intent(in) :: pt(2)
-         real(rp), intent(inout) :: n(2)
-         integer :: e, f, nv, m
-         real(rp) :: a(2), w(2), t, d, dmin, en(2), sg
-         nv = size(o%v, 2)
-         sg = sign(1.0_rp, polygon_area(o%v))
-         found = .false.
-         dmin = dp
-         edges: do e = 1, nv
-            f = modulo(e, nv) + 1
-            a = o%v(:, f) - o%v(:, e)
-            w = pt - o%v(:, e)
-            t = max(0.0_rp, min(1.0_rp, dot_product(w, a)/max(dot_product(a, a), tiny(1.0_rp))))
-            d = norm2(w - t*a)
-            if (d >= dmin - 1.0e-12_rp*dmin) cycle edges
-            en = sg*[a(2), -a(1)]/norm2(a)
-            others: do m = 1, size(objs)
-               if (m == obj .or. objs(m)%role_id /= role_solid) cycle others
-               if (point_in_polygon(pt + dp*en, objs(m)%v)) cycle edges
-            end do others
-            dmin = d
-            n = en
-            found = .true.
-         end do edges
-      end function exposed_edge
 
    end subroutine add_lattice
+
+   !> Particle k of the solid o (objs(obj)), at pt in the section, its z range
+   !> zo: its kind, body and normal; the outer layer is the surface (contact,
+   !> repulsive boundary), near a vertex a corner; a side covered by another
+   !> solid is no surface. In 3D a side is covered only by a solid across the
+   !> particle's z, and an end face of the solid's z range can be the surface
+   !> too (a tank's side wall).
+   subroutine solid_particle(o, obj, objs, dp, zdom, zo, pt, k, p)
+      type(geom_object), intent(in) :: o, objs(:)
+      integer, intent(in) :: obj, k
+      real(rp), intent(in) :: dp, zdom(2), zo(2), pt(2)
+      type(particles_t), intent(inout) :: p
+      real(rp) :: n2(2)
+      p%kind(k) = merge(kind_moving, kind_fixed, o%motion_id /= wall_fixed)
+      p%body(k) = obj
+      n2 = nearest_edge_normal(pt, o%v)
+      p%surf(k) = 0
+      if (exposed_edge(o, obj, objs, dp, zdom, p%x(ndim, k), pt, n2)) then
+         p%surf(k) = 1
+         if (minval(hypot(o%v(1, :) - pt(1), o%v(2, :) - pt(2))) < dp) p%surf(k) = 2
+      end if
+      p%nrm(:, k) = 0.0_rp
+      p%nrm(1:nsec, k) = n2
+      if (ndim == 3) call end_face_surface(obj, objs, dp, zdom, zo, pt, k, p)
+   end subroutine solid_particle
+
+   !> 3D: particle k of objs(obj), less than dp from an end of its z range zo
+   !> that lies strictly inside the domain's width zdom, where no other solid
+   !> lies just beyond at pt, is on that end face: a surface facing across the
+   !> width (normal -z or +z); one on an exposed side as well is on an edge of
+   !> the solid, a corner (surf 2, the side's normal kept).
+   subroutine end_face_surface(obj, objs, dp, zdom, zo, pt, k, p)
+      type(geom_object), intent(in) :: objs(:)
+      integer, intent(in) :: obj, k
+      real(rp), intent(in) :: dp, zdom(2), zo(2), pt(2)
+      type(particles_t), intent(inout) :: p
+      integer :: e, m
+      real(rp) :: zf, sg, zb(2), tol
+      tol = 1.0e-9_rp*dp
+      ends: do e = 1, 2
+         zf = zo(e)
+         sg = real(2*e - 3, rp)               ! outward: -1 at zmin, +1 at zmax
+         if (abs(p%x(ndim, k) - zf) >= dp) cycle ends
+         if (zf <= zdom(1) + tol .or. zf >= zdom(2) - tol) cycle ends
+         beyond: do m = 1, size(objs)
+            if (m == obj .or. objs(m)%role_id /= role_solid) cycle beyond
+            zb = geom_zrange(objs(m), zdom)
+            if (zf + sg*1.0e-3_rp*dp < zb(1) .or. zf + sg*1.0e-3_rp*dp > zb(2)) cycle beyond
+            if (point_in_polygon(pt, objs(m)%v)) cycle ends
+         end do beyond
+         if (p%surf(k) /= 0) then
+            p%surf(k) = 2
+         else
+            p%surf(k) = 1
+            p%nrm(:, k) = 0.0_rp
+            p%nrm(ndim, k) = sg
+         end if
+      end do ends
+   end subroutine end_face_surface
+
+   !> Among the edges of o (objs(obj)) less than dp from pt, the nearest (the
+   !> first on a tie) whose outside one spacing away is not inside another
+   !> solid (in 3D: one across the particle's zp): its outward normal goes to
+   !> n. False when there is none.
+   logical function exposed_edge(o, obj, objs, dp, zdom, zp, pt, n) result(found)
+      type(geom_object), intent(in) :: o, objs(:)
+      integer, intent(in) :: obj
+      real(rp), intent(in) :: dp, zdom(2), zp, pt(2)
+      real(rp), intent(inout) :: n(2)
+      integer :: e, f, nv, m
+      real(rp) :: a(2), w(2), t, d, dmin, en(2), sg, zb(2)
+      nv = size(o%v, 2)
+      sg = sign(1.0_rp, polygon_area(o%v))
+      found = .false.
+      dmin = dp
+      edges: do e = 1, nv
+         f = modulo(e, nv) + 1
+         a = o%v(:, f) - o%v(:, e)
+         w = pt - o%v(:, e)
+         t = max(0.0_rp, min(1.0_rp, dot_product(w, a)/max(dot_product(a, a), tiny(1.0_rp))))
+         d = norm2(w - t*a)
+         if (d >= dmin - 1.0e-12_rp*dmin) cycle edges
+         en = sg*[a(2), -a(1)]/norm2(a)
+         others: do m = 1, size(objs)
+            if (m == obj .or. objs(m)%role_id /= role_solid) cycle others
+            if (ndim == 3) then
+               zb = geom_zrange(objs(m), zdom)
+               if (zp < zb(1) .or. zp > zb(2)) cycle others
+            end if
+            if (point_in_polygon(pt + dp*en, objs(m)%v)) cycle edges
+         end do others
+         dmin = d
+         n = en
+         found = .true.
+      end do edges
+   end function exposed_edge
 
    !> Inside a body, or closer to its outline than half a spacing dp (in 3D:
    !> and within its extent across the width, grown by as much); or among

@@ -496,6 +496,50 @@ def test_3d_cube_slides_across_a_periodic_side(tmp_path: Path, mbsph3d: Path) ->
     assert abs(a["y"][-1] - 0.05) < 0.01 * 0.02, f"the cube rests at y = {a['y'][-1]:.5f} m (0.05 m)"
 
 
+SIDE_WALLS = """&run case_name = 'side_walls', t_end = 0.3, dt_out = 0.1, energy_interval = 0.005, out_dir = 'OUT' /
+&domain xmin = -0.1, xmax = 0.5, ymin = -0.1, ymax = 0.3, zmin = -0.06, zmax = 0.46 /
+&numerics dp = 0.02 /
+&box role = 'solid', xmin = -0.1, xmax = 0.5, ymin = -0.06, ymax = 0.0 /
+&box role = 'solid', xmin = -0.1, xmax = 0.5, ymin = 0.0, ymax = 0.2, zmin = -0.06, zmax = 0.0 /
+&box role = 'solid', xmin = -0.1, xmax = 0.5, ymin = 0.0, ymax = 0.2, zmin = 0.4, zmax = 0.46 /
+&body shape = 'box', x = 0.2, y = 0.0502, z = 0.1, width = 0.1, height = 0.1, depth = 0.1, density = 2400.0,
+      mu = 0.5, w = 2.0 /
+"""
+
+
+def test_3d_cube_slides_on_a_floor_between_side_walls_into_one(tmp_path: Path, mbsph3d: Path) -> None:
+    """A concrete cube (five particles across) let go at 2 m/s across the width on a floor
+    between two side walls, boxes across the width 3 spacings thick whose sections cover
+    the floor's top: the floor bears it where no wall stands on it (it stays at y = 0.05 m),
+    friction brakes it at mu g (mu = 0.5, within 2 %, once the landing has settled; measured
+    +0.4 % over 0.06 to 0.11 s), and the wall it slides into stops
+    it: its face never passes the wall's, and it comes to rest against it, less than a
+    spacing short (the soft contact stops impacts short of the surface). The wall's
+    wetted face is an end face of its z range: its outer layer is the wall's surface.
+    (Before the end faces had surfaces and a side was covered only by a solid across the
+    particle's z, the floor had no surface between the walls and the cube sank through it.)"""
+    proc, out = run_case(SIDE_WALLS, tmp_path, binary=mbsph3d)
+    assert_ok(proc)
+    a = read_csv(out / "bodies.csv")
+    t, z, w = a["time"], a["z"], a["w"]
+    half, wall, dp = 0.05, 0.4, 0.02
+    assert np.max(np.abs(a["y"][t > 0.02] - 0.05)) < 0.01 * dp, f"the cube left the floor: y {a['y'].min():.5f} m"
+    # sliding: after the landing (let go 0.2 mm high, the floor's push swings about the
+    # weight for some 0.04 s), once the floor bears the weight within 2 %, and before the
+    # wall's contact reaches the cube (the kernel's support, 2h, from its face)
+    free = z + half < wall - 3.0 * dp
+    weight = 2400.0 * 0.1**3 * G
+    off = np.nonzero(free & (np.abs(a["fy_contact"] / weight - 1.0) > 0.02))[0]
+    sliding = free & (np.arange(t.size) > off[-1])
+    assert t[sliding].size > 10 and t[sliding][-1] - t[sliding][0] > 0.05, "no sliding to measure"
+    decel = -np.polyfit(t[sliding], w[sliding], 1)[0]
+    assert abs(decel - 0.5 * G) <= 0.02 * 0.5 * G, f"deceleration {decel:.3f} m/s2, mu g = {0.5 * G:.3f}"
+    assert np.max(z) + half < wall, f"the cube's face reached z = {np.max(z) + half:.4f} m, the wall's is at {wall}"
+    assert abs(w[-1]) < 1e-3, f"the cube still moves at {w[-1]:.4f} m/s"
+    assert wall - (z[-1] + half) < dp, f"the cube stopped {wall - z[-1] - half:.4f} m short of the wall"
+    assert a["rotation"][-1] < 1e-3, f"the cube turned by {a['rotation'][-1]:.2e} rad"
+
+
 def test_3d_restart_across_a_periodic_side_is_bit_identical(tmp_path: Path, mbsph3d: Path) -> None:
     # the cube of the slide above, stopped at step 250 while it straddles the side (part of
     # it wrapped to zmin, its centre still short of zmax) and sliding (slip memory set),
