@@ -329,7 +329,6 @@ contains
             end do columns
          end do
       end do across
-
    end subroutine add_lattice
 
    !> Particle k of the solid o (objs(obj)), at pt in the section, its z range
