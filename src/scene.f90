@@ -309,7 +309,7 @@ contains
                ps(1:nsec) = pt
                if (.not. point_in_polygon(pt, o%v)) cycle columns
                if (o%role_id == role_solid) then
-                  if (inside_earlier_solid(ps, objs(1:obj - 1), zdom)) cycle columns
+                  if (solid_covers(objs(1:obj - 1), 0, zdom, ps(1:nsec), ps(ndim))) cycle columns
                else if (in_hole(ps, holes, por, dp)) then
                   cycle columns
                end if
@@ -366,20 +366,15 @@ contains
       integer, intent(in) :: obj, k
       real(rp), intent(in) :: dp, zdom(2), zo(2), pt(2)
       type(particles_t), intent(inout) :: p
-      integer :: e, m
-      real(rp) :: zf, sg, zb(2), tol
+      integer :: e
+      real(rp) :: zf, sg, tol
       tol = 1.0e-9_rp*dp
       ends: do e = 1, 2
          zf = zo(e)
          sg = real(2*e - 3, rp)               ! outward: -1 at zmin, +1 at zmax
          if (abs(p%x(ndim, k) - zf) >= dp) cycle ends
          if (zf <= zdom(1) + tol .or. zf >= zdom(2) - tol) cycle ends
-         beyond: do m = 1, size(objs)
-            if (m == obj .or. objs(m)%role_id /= role_solid) cycle beyond
-            zb = geom_zrange(objs(m), zdom)
-            if (zf + sg*1.0e-3_rp*dp < zb(1) .or. zf + sg*1.0e-3_rp*dp > zb(2)) cycle beyond
-            if (point_in_polygon(pt, objs(m)%v)) cycle ends
-         end do beyond
+         if (solid_covers(objs, obj, zdom, pt, zf + sg*1.0e-3_rp*dp)) cycle ends
          if (p%surf(k) /= 0) then
             p%surf(k) = 2
          else
@@ -399,8 +394,8 @@ contains
       integer, intent(in) :: obj
       real(rp), intent(in) :: dp, zdom(2), zp, pt(2)
       real(rp), intent(inout) :: n(2)
-      integer :: e, f, nv, m
-      real(rp) :: a(2), w(2), t, d, dmin, en(2), sg, zb(2)
+      integer :: e, f, nv
+      real(rp) :: a(2), w(2), t, d, dmin, en(2), sg
       nv = size(o%v, 2)
       sg = sign(1.0_rp, polygon_area(o%v))
       found = .false.
@@ -413,14 +408,7 @@ contains
          d = norm2(w - t*a)
          if (d >= dmin - 1.0e-12_rp*dmin) cycle edges
          en = sg*[a(2), -a(1)]/norm2(a)
-         others: do m = 1, size(objs)
-            if (m == obj .or. objs(m)%role_id /= role_solid) cycle others
-            if (ndim == 3) then
-               zb = geom_zrange(objs(m), zdom)
-               if (zp < zb(1) .or. zp > zb(2)) cycle others
-            end if
-            if (point_in_polygon(pt + dp*en, objs(m)%v)) cycle edges
-         end do others
+         if (solid_covers(objs, obj, zdom, pt + dp*en, zp)) cycle edges
          dmin = d
          n = en
          found = .true.
@@ -654,7 +642,7 @@ contains
             ds = (len + d*tan(o%mitre(2)) - s0)/ns
             along: do i = 1, ns
                ps(1:nsec) = a + (s0 + (i - 0.5_rp)*ds)*t - d*nrm
-               if (inside_earlier_solid(ps, earlier, zdom)) cycle along
+               if (solid_covers(earlier, 0, zdom, ps(1:nsec), ps(ndim))) cycle along
                p%n = p%n + 1
                k = p%n
                p%x(:, k) = ps
@@ -682,27 +670,32 @@ contains
    end function layers_across
 
 
-   !> Solids may overlap (a slope resting on a floor, boxes sharing a corner):
-   !> where they do, the earlier object keeps its particles and the later one
-   !> leaves the shared area empty, so no two wall particles sit together.
-   logical function inside_earlier_solid(pt, earlier, zdom) result(inside)
-      real(rp), intent(in) :: pt(ndim), zdom(2)
-      type(geom_object), intent(in) :: earlier(:)
+   !> Whether a solid of objs other than objs(skip) holds the point q of the
+   !> section at zq across the width (3D; its z range counts, zdom for an
+   !> object without its own). Solids may overlap (a slope resting on a floor,
+   !> boxes sharing a corner): where they do, the earlier object keeps its
+   !> particles and the later one leaves the shared area empty, so no two wall
+   !> particles sit together; and a solid's side or end face with another
+   !> solid just beyond it is no surface.
+   logical function solid_covers(objs, skip, zdom, q, zq) result(inside)
+      type(geom_object), intent(in) :: objs(:)
+      integer, intent(in) :: skip
+      real(rp), intent(in) :: zdom(2), q(nsec), zq
       integer :: e
       real(rp) :: z(2)
       inside = .false.
-      do e = 1, size(earlier)
-         if (earlier(e)%role_id /= role_solid) cycle
+      do e = 1, size(objs)
+         if (e == skip .or. objs(e)%role_id /= role_solid) cycle
          if (ndim == 3) then
-            z = geom_zrange(earlier(e), zdom)
-            if (pt(ndim) < z(1) .or. pt(ndim) > z(2)) cycle
+            z = geom_zrange(objs(e), zdom)
+            if (zq < z(1) .or. zq > z(2)) cycle
          end if
-         if (point_in_polygon(pt(1:nsec), earlier(e)%v)) then
+         if (point_in_polygon(q, objs(e)%v)) then
             inside = .true.
             return
          end if
       end do
-   end function inside_earlier_solid
+   end function solid_covers
 
    !> The run's constants from the case: ybed and ytop bound the fluid (its
    !> lowest and highest particle edges); they fix h_swl when the input leaves it at 0.
