@@ -83,7 +83,7 @@ contains
    !> regions: bodies keep the numerics their contact is validated with, the
    !> pores' terms need h = 2 dp without the gradient correction);
    !> keep_dynamic: the boundary stays 'dynamic' (the contact model 'dynamic'
-   !> needs it; an absorbing paddle is tuned with it). applied: the wave
+   !> needs it; an absorbing paddle absorbs better with it). applied: the wave
    !> defaults the case took ('name = value, ...'; '' for none).
    subroutine read_numerics(file, c, waves, keep_dynamic, applied)
       character(len=*), intent(in) :: file

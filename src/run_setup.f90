@@ -11,7 +11,7 @@ module run_setup
    use input_check, only: int_str, real_str, approx_str
    use particles, only: particles_t, particles_count_kind, particles_permute
    use params, only: params_t, visc_artificial, diff_none, kgc_gradient, kgc_shepard, integ_verlet, &
-                     bnd_repulsive, bnd_mdbc
+                     bnd_dynamic, bnd_repulsive, bnd_mdbc
    use scene, only: scene_build, scene_bodies, scene_no_fluid, scene_estimate, scene_params, scene_gauges, &
                     scene_damping, scene_contact, scene_run, scene_porous, scene_walls
    use sys_limits, only: sys_memory_left
@@ -31,7 +31,7 @@ module run_setup
    use timers, only: timer_start, timer_stop, t_setup
    use comm, only: comm_size, comm_rank, comm_barrier, comm_max, comm_node_size
    use errors, only: fatal, input_error, alloc_check
-   use wave_paddle, only: paddle_t
+   use wave_paddle, only: paddle_t, paddle_absorb_tune
    use scene_flume, only: scene_paddle, armour_csv_header
    use probe_gauges, only: gauges_count, gauges_init
    use options, only: gauge_elevation, wave_irregular
@@ -144,11 +144,16 @@ contains
       type(run_t), intent(inout) :: r
       type(case_cfg), intent(in) :: c
       type(paddle_t), intent(in) :: paddle
+      real(rp) :: source
       call walls_init(scene_walls(c), paddle, r%n_kind(3) > 0, r%walls)
       if (r%walls%paddle%absorb) then
          ! read where the kernel's support holds only water: 2h + dp in front of the face
          r%walls%paddle%gauge_offset = 2.0_rp*r%prm%h + r%prm%dp
-         r%walls%paddle%delay = r%walls%paddle%gauge_offset/r%walls%paddle%celerity
+         ! where the wave starts: the dynamic boundary holds the water about h off its
+         ! particles, whose first row stands dp/2 behind the face; mDBC's wall is the face
+         source = 0.0_rp
+         if (r%prm%boundary == bnd_dynamic) source = r%prm%h - 0.5_rp*r%prm%dp
+         call paddle_absorb_tune(r%walls%paddle, c%fluid%gravity, r%walls%paddle%gauge_offset - source)
          ! (3D: at mid-width; the paddle moves uniformly over the width)
          call gauges_init(r%pg, [gauge_elevation], [r%walls%paddle%x_face], [0.0_rp], &
                           [merge(0.5_rp*(c%domain%zmin + c%domain%zmax), 0.0_rp, ndim == 3)])

@@ -23,8 +23,8 @@ module run_state
       real(rp) :: h_swl = 0.0_rp      !< still-water depth the run was set up with [m]
       real(rp) :: y_surface = 0.0_rp  !< still-water surface level [m]
       real(rp) :: pad_xc = 0.0_rp     !< absorbing paddle: displacement of its correction [m]
-      real(rp) :: pad_eta_mean = 0.0_rp   !< absorbing paddle: the slow mean of the elevation it measures [m]
-      real(rp), allocatable :: pad_hist(:, :)   !< absorbing paddle: (time [s], elevation [m]) it measured lately
+      real(rp) :: pad_eta_mean = 0.0_rp   !< absorbing paddle: the slow mean of what it measures less its own wave [m]
+      real(rp), allocatable :: pad_hist(:, :)   !< absorbing paddle: (time [s], wave coming in [m]) of its last steps
       ! not restored on restart: statistics of this process
       integer :: istep0 = 0           !< first step of this process
       real(rp) :: wall0 = 0.0_rp      !< wall clock at the start of stepping [s]

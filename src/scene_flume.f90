@@ -658,9 +658,10 @@ contains
       if (c%absorb) call absorber(c, g, pad, lines)
    end subroutine scene_paddle
 
-   !> The active absorber of the paddle: its gain G = omega / (H/S), the
-   !> linear gain that absorbs a wave of the (peak) period without a
-   !> reflection (sqrt(g/d) for a piston in shallow water), and its time scale.
+   !> The active absorber of the paddle: its frequency and time scale, and
+   !> the Biesel gain G = omega / (H/S) that would absorb a wave of the (peak)
+   !> period at the face (sqrt(g/d) for a piston in shallow water); the run's
+   !> set-up tunes gain and delay to the gauge (paddle_absorb_tune).
    subroutine absorber(wm, g, pad, lines)
       type(wavemaker_cfg), intent(in) :: wm
       real(rp), intent(in) :: g
@@ -678,12 +679,13 @@ contains
       end if
       pad%absorb = .true.
       pad%gain = omega/tra
-      pad%celerity = omega*wm%depth/kd
+      pad%depth = wm%depth
       pad%tau = wm%absorb_time
       if (pad%tau <= 0.0_rp) pad%tau = 5.0_rp*period
+      pad%omega_abs = omega
       pad%x_face = wm%x0
       pad%x_max = 0.5_rp*wm%max_stroke
-      lines = lines//new_line('a')//'  absorbing paddle: gain '//real_str(pad%gain)//' 1/s (sqrt(g/d) = '// &
+      lines = lines//new_line('a')//'  absorbing paddle: Biesel gain '//real_str(pad%gain)//' 1/s (sqrt(g/d) = '// &
               real_str(sqrt(g/wm%depth))//'), drift and mean-level time '//real_str(pad%tau)//' s'
    end subroutine absorber
 

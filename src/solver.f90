@@ -39,7 +39,7 @@ module solver
    use porous, only: porous_t, porous_point, porous_field, n_por
    use probe_gauges, only: gauges_t, gauges_count, gauges_open, gauges_sums, gauges_values, gauges_write, &
                            gauges_close
-   use wave_paddle, only: paddle_motion, paddle_target_eta, paddle_absorb_set, paddle_absorb_advance
+   use wave_paddle, only: paddle_motion, paddle_own_wave, paddle_absorb_set, paddle_absorb_advance
    implicit none
    private
    public :: run_t, solver_run
@@ -225,8 +225,8 @@ contains
          call comm_sum(acc)
          call gauges_values(r%pg, r%prm, acc, val)
          r%eta_pad = val(1)
-         ! dry: the sample the paddle will read D/c later is the target then, no correction
-         if (ieee_is_nan(r%eta_pad)) r%eta_pad = r%st%pad_eta_mean + paddle_target_eta(pad, r%st%t - pad%delay)
+         ! dry: the sample of no wave coming in, which asks for no correction
+         if (ieee_is_nan(r%eta_pad)) r%eta_pad = r%st%pad_eta_mean + paddle_own_wave(pad, r%st%t)
          call paddle_absorb_set(pad, r%st%t, r%eta_pad, r%st%pad_xc, r%st%pad_eta_mean, r%st%pad_hist)
       end associate
    end subroutine absorb_measure

@@ -7,22 +7,25 @@
 !>
 !> Active absorption (doc/waves.md, "Active absorption at the paddle"): the
 !> paddle adds to its target motion the velocity that cancels the wave
-!> coming back to it, u_c = -G (eta_m - eta_t), from the elevation eta_m
-!> measured in front of its face and the elevation eta_t of the wave it is
-!> making; G = omega / (H/S) at the (peak) period, the linear gain that
-!> makes no wave of that period (sqrt(g/d) in shallow water). The gauge
-!> stands a distance D in front of the face (the kernel's support must hold
-!> only water): the wave coming in passes it D/c before it reaches the
-!> paddle, so eta_m is used D/c late, and the paddle's own wave reaches it
-!> D/c after it left, so eta_t is taken 2 D/c late.
+!> coming back to it, u_c = -G e, from the wave coming in e: the elevation
+!> measured in front of its face less the paddle's own wave there. The
+!> gauge stands a distance D in front of the wave's source (the kernel's
+!> support must hold only water), so e is read some D/c late. The gain and
+!> that delay come from linear theory at the (peak) period
+!> (paddle_absorb_tune): with the paddle's evanescent modes at the gauge and
+!> the lead of the absorber's slow filters, they make no reflection of that
+!> period; without either, G = omega / (H/S) (sqrt(g/d) in shallow water)
+!> and the delay D/c.
 module wave_paddle
    use kinds, only: rp
-   use wave_theory, only: ramp, ramp_rate
+   use constants, only: pi
+   use wave_theory, only: ramp, ramp_rate, paddle_mode, piston_transfer, flap_transfer
    use wave_signal, only: signal_t, signal_eval
    use options, only: wave_regular
    implicit none
    private
-   public :: paddle_t, paddle_motion, paddle_place, paddle_target_eta, paddle_absorb_set, paddle_absorb_advance
+   public :: paddle_t, paddle_motion, paddle_place, paddle_target_eta, paddle_absorb_set, paddle_absorb_advance, &
+             paddle_absorb_tune, paddle_own_wave
 
    !> The paddle's law of motion, prepared once by the scene builder (scene_paddle).
    type :: paddle_t
@@ -45,8 +48,11 @@ module wave_paddle
       real(rp) :: x_face = 0.0_rp      !< rest position of the face at the still-water level [m]
       real(rp) :: x_max = 0.0_rp       !< the paddle's excursion allowed, max_stroke / 2 [m]
       real(rp) :: gauge_offset = 0.0_rp   !< the elevation is measured this far in front of the face [m]
-      real(rp) :: celerity = 0.0_rp    !< phase speed at the (peak) period [m/s]
-      real(rp) :: delay = 0.0_rp       !< gauge_offset / celerity [s]
+      real(rp) :: depth = 0.0_rp       !< still-water depth at the paddle [m]
+      real(rp) :: delay = 0.0_rp       !< the paddle's wave from its source to the gauge [s]
+      real(rp) :: near = 0.0_rp        !< the paddle's evanescent modes at the gauge per unit of its wave, a quarter period late
+      real(rp) :: lag = 0.0_rp         !< the wave coming in is read this late [s]
+      real(rp) :: omega_abs = 1.0_rp   !< the (peak) angular frequency the absorber is tuned to [rad/s]
       ! the correction over the present step (paddle_absorb_set): X_c + (t - t_c) u_c
       real(rp) :: xc = 0.0_rp, uc = 0.0_rp, tc = 0.0_rp
    end type paddle_t
@@ -138,23 +144,87 @@ contains
 
    !> The absorber's correction for the step from time t: with the elevation
    !> eta_m measured in front of the face, the correction's displacement xc,
-   !> the slow mean level eta_mean and the history of eta_m - eta_mean (all
-   !> kept in the run's state; the sample of time t is added here),
-   !> u_c = -G (e(t - D/c) - eta_t(t - 2 D/c)) - xc / tau, e = eta_m - eta_mean.
+   !> the slow mean level eta_mean and the history of the wave coming in
+   !> e = eta_m - eta_own(t) - eta_mean (all kept in the run's state; the
+   !> sample of time t is added here), u_c = -G e(t - lag) - xc / tau.
    !> The mean level is left out so that a slow change of the level
    !> (set-down, water taken up by a porous core) does not walk the paddle
    !> away; the last term brings the paddle back to its signal over tau.
+   !> Both lead the correction by atan(1/(omega tau)) at the wave's
+   !> frequency, which gain and lag take back (paddle_absorb_tune).
    pure subroutine paddle_absorb_set(pad, t, eta_m, xc, eta_mean, hist)
       type(paddle_t), intent(inout) :: pad
       real(rp), intent(in) :: t, eta_m, xc, eta_mean
       real(rp), allocatable, intent(inout) :: hist(:, :)   !< (time, e) of past steps, oldest first
       real(rp) :: e
-      call history_add(hist, t, eta_m - eta_mean, pad%delay)
-      e = history_at(hist, t - pad%delay)
+      call history_add(hist, t, paddle_incoming(pad, t, eta_m, eta_mean), pad%lag)
+      e = history_at(hist, t - pad%lag)
       pad%xc = xc
       pad%tc = t
-      pad%uc = -pad%gain*(e - paddle_target_eta(pad, t - 2.0_rp*pad%delay)) - xc/pad%tau
+      pad%uc = -pad%gain*e - xc/pad%tau
    end subroutine paddle_absorb_set
+
+   !> The wave coming in at the gauge at time t: what the gauge measures less
+   !> the paddle's own wave there and the slow mean level.
+   pure function paddle_incoming(pad, t, eta_m, eta_mean) result(e)
+      type(paddle_t), intent(in) :: pad
+      real(rp), intent(in) :: t, eta_m, eta_mean
+      real(rp) :: e
+      e = eta_m - paddle_own_wave(pad, t) - eta_mean
+   end function paddle_incoming
+
+   !> The elevation of the paddle's target wave at the gauge at time t: the
+   !> progressive wave that left its source delay earlier, and the evanescent
+   !> modes of its motion now (in quadrature with the motion: a quarter of the
+   !> (peak) period late).
+   pure function paddle_own_wave(pad, t) result(eta)
+      type(paddle_t), intent(in) :: pad
+      real(rp), intent(in) :: t
+      real(rp) :: eta
+      eta = paddle_target_eta(pad, t - pad%delay)
+      eta = eta + pad%near*paddle_target_eta(pad, t - 0.5_rp*pi/pad%omega_abs)
+   end function paddle_own_wave
+
+   !> The absorber's gain, delays and near field from linear theory at the
+   !> (peak) angular frequency omega_abs, for a gauge x_g in front of the wave's
+   !> source in water of the paddle's depth, the slow time tau already set. With the
+   !> correction velocity U (time factor exp(-i omega t)), the gauge reads
+   !> the wave coming in, I exp(-i k x_g) at the source I, its reflection by
+   !> the paddle at rest, I exp(i k x_g), and U (P exp(i k x_g) + i q), P the
+   !> progressive and i q the evanescent elevation per unit face velocity
+   !> (paddle_mode). The absorber U = -K e, with the two filters' lead
+   !> (1 + i/(omega tau))^-2 and e the reading less the paddle's own wave,
+   !> returns nothing (I + U P = 0) for K = (1 + i/(omega tau))^2 / (P exp(-i k x_g) - i q):
+   !> its modulus is the gain, its phase over omega the lag. Without q and
+   !> tau: G = 1/P = omega / (H/S) and the lag x_g / c.
+   pure subroutine paddle_absorb_tune(pad, g, x_g)
+      type(paddle_t), intent(inout) :: pad
+      real(rp), intent(in) :: g, x_g
+      complex(rp), parameter :: iu = (0.0_rp, 1.0_rp)
+      complex(rp) :: kk
+      real(rp) :: k, kn, cn, q, pp, term
+      integer :: n
+      associate (flap => pad%flap, omega => pad%omega_abs, depth => pad%depth)
+      call paddle_mode(flap, 0, omega, depth, g, k, cn)
+      if (flap) then
+         pp = flap_transfer(k*depth)/omega
+      else
+         pp = piston_transfer(k*depth)/omega
+      end if
+      q = 0.0_rp
+      do n = 1, 100000
+         call paddle_mode(flap, n, omega, depth, g, kn, cn)
+         term = -omega/(g*kn)*cn*cos(kn*depth)*exp(-kn*max(x_g, 0.0_rp))
+         q = q + term
+         if (abs(term) < 1.0e-12_rp*pp .and. n > 10) exit
+      end do
+      kk = (1.0_rp + iu/(omega*pad%tau))**2/(pp*exp(-iu*k*x_g) - iu*q)
+      pad%gain = abs(kk)
+      pad%lag = modulo(atan2(aimag(kk), real(kk)), 2.0_rp*pi)/omega
+      pad%delay = x_g*k/omega
+      pad%near = q/pp
+      end associate
+   end subroutine paddle_absorb_tune
 
    !> Append (t, e) to the history and drop what is no longer needed: every
    !> sample but the last one older than t - delay.
@@ -199,7 +269,8 @@ contains
       real(rp), intent(in) :: dt, eta_m
       real(rp), intent(inout) :: xc, eta_mean
       xc = pad%xc + dt*pad%uc
-      eta_mean = eta_mean + (dt/pad%tau)*(eta_m - eta_mean)
+      ! the mean of what is not the paddle's own wave: a level that wave leaves alone
+      eta_mean = eta_mean + (dt/pad%tau)*paddle_incoming(pad, pad%tc, eta_m, eta_mean)
    end subroutine paddle_absorb_advance
 
    !> Position and velocity of a paddle particle whose rest position is xb.

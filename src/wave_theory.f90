@@ -10,7 +10,7 @@ module wave_theory
    use constants, only: pi
    implicit none
    private
-   public :: wave_number, piston_transfer, flap_transfer, piston_second_order, miche_limit, ramp, ramp_rate
+   public :: wave_number, piston_transfer, flap_transfer, piston_second_order, miche_limit, ramp, ramp_rate, paddle_mode
 
    !> above this kd, exp(-2 kd) terms are below 1e-34 relative: dropped
    real(rp), parameter :: kd_deep = 40.0_rp
@@ -88,6 +88,59 @@ contains
       end if
       hs = 2.0_rp*(kd*tanh(kd) - c)/(kd*(1.0_rp + q_ratio(kd)))
    end function flap_transfer
+
+   !> Mode n of the flow a paddle makes in water of depth d (Havelock 1929):
+   !> n = 0 the progressive wave, kn = k of wave_number; n >= 1 the evanescent
+   !> modes, which decay as exp(-kn x), omega^2 = -g kn tan(kn d) with kn d in
+   !> ((n - 1/2) pi, n pi). The face's horizontal velocity per unit velocity at
+   !> the still-water level (piston 1, flap hinged at the bed (z + d)/d) is
+   !> u(z) = c_0 cosh(k (z + d)) + sum_n c_n cos(kn (z + d)); the elevation of a
+   !> mode per unit face velocity (time factor exp(-i omega t)) is
+   !> (omega/(g k)) c_0 cosh(kd) exp(i k x), in phase with the velocity, and
+   !> -i (omega/(g kn)) c_n cos(kn d) exp(-kn x), a quarter period ahead or behind.
+   !> For kd below a few hundred.
+   pure subroutine paddle_mode(flap, n, omega, depth, g, kn, cn)
+      logical, intent(in) :: flap
+      integer, intent(in) :: n
+      real(rp), intent(in) :: omega, depth, g
+      real(rp), intent(out) :: kn, cn
+      real(rp) :: y, c, lo, hi, dl, proj, norm
+      integer :: it
+      if (n == 0) then
+         kn = wave_number(omega, depth, g)
+         y = kn*depth
+         if (flap) then
+            proj = (y*sinh(y) - cosh(y) + 1.0_rp)/(kn*kn*depth)
+         else
+            proj = sinh(y)/kn
+         end if
+         norm = 0.5_rp*depth + sinh(2.0_rp*y)/(4.0_rp*kn)
+         cn = proj/norm
+         return
+      end if
+      ! y = n pi - dl: (n pi - dl) tan(dl) = omega^2 d / g rises with dl on (0, pi/2)
+      c = omega*omega*depth/g
+      lo = 0.0_rp
+      hi = 0.5_rp*pi
+      do it = 1, 200
+         dl = 0.5_rp*(lo + hi)
+         if ((n*pi - dl)*tan(dl) > c) then
+            hi = dl
+         else
+            lo = dl
+         end if
+         if (hi - lo <= 4.0_rp*epsilon(1.0_rp)*hi) exit
+      end do
+      y = n*pi - 0.5_rp*(lo + hi)
+      kn = y/depth
+      if (flap) then
+         proj = (y*sin(y) + cos(y) - 1.0_rp)/(kn*kn*depth)
+      else
+         proj = sin(y)/kn
+      end if
+      norm = 0.5_rp*depth + sin(2.0_rp*y)/(4.0_rp*kn)
+      cn = proj/norm
+   end subroutine paddle_mode
 
    !> Amplitude X2 [m] of the second-harmonic paddle motion that a piston
    !> needs to make a regular wave of height h [m] without the spurious free

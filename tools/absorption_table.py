@@ -6,15 +6,14 @@ test_absorbing_paddle_reflection.
 
     .venv/bin/python tools/absorption_table.py               # the table of doc/waves.md
 
-Each row: the paddle, the wave's kh, the kh the absorber is tuned to (its gain is
-omega / (H/S) there: the wave's own for a regular wave, the peak's for a JONSWAP sea),
-Kr of linear theory for that gain, |1 - r| / (1 + r) with r the gain over the wave's own,
-and Kr measured with and without absorption.
+Each row: the paddle, the wave's kh, the kh the absorber is tuned to (the wave's own for
+a regular wave, the peak's for a JONSWAP sea), Kr of linear theory for that absorber (0
+where it is tuned to the wave; its gain and delay at another kh), and Kr measured with and
+without absorption.
 """
 from __future__ import annotations
 
 import argparse
-import math
 import subprocess
 import sys
 import tempfile
@@ -24,20 +23,19 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from post.wave_cases import absorption_case, biesel_transfer, period_for_kh  # noqa: E402
+from post.wave_cases import absorber_linear_kr, absorption_case  # noqa: E402
 from post.waves import paddle_reflection_coefficient, read_gauges  # noqa: E402
 
-G = 9.81
+H_OVER_DP = 1.6   # absorption_case's h / dp
 
 
-def linear_kr(kh: float, gain_kh: float, paddle: str, depth: float) -> float:
-    """|1 - r| / (1 + r): the reflection of a paddle whose gain is r times the one that
-    absorbs a wave of kh (linear theory, the gauge at the face)."""
-    def ideal(khx: float) -> float:
-        omega = 2.0 * math.pi / period_for_kh(khx, depth)
-        return omega / biesel_transfer(khx, paddle)
-    r = ideal(gain_kh) / ideal(kh)
-    return abs(1.0 - r) / (1.0 + r)
+def linear_kr(kh: float, gain_kh: float, paddle: str, depth: float, over_depth: float) -> float:
+    """Kr of linear theory for the solver's absorber tuned to gain_kh and met by a wave of
+    kh (post.wave_cases.absorber_linear_kr): the flume's dynamic boundary makes the wave
+    h - dp/2 in front of the face, and the gauge stands 2h + dp in front of it."""
+    dp = depth / over_depth
+    h = H_OVER_DP * dp
+    return absorber_linear_kr(kh, gain_kh, paddle, depth, 2.0 * h + dp - (h - 0.5 * dp))
 
 
 def measure(kh: float, gain_kh: float, paddle: str, absorb: bool, over_depth: float, depth: float,
@@ -74,7 +72,7 @@ def main() -> None:
         print("| paddle | kh of the wave | absorber tuned to kh | Kr, linear theory | Kr measured | Kr, paddle not absorbing |")
         print("|---|---|---|---|---|---|")
         for (paddle, kh, gkh), (j1, j0) in zip(rows, jobs):
-            print(f"| {paddle} | {kh} | {gkh} | {linear_kr(kh, gkh, paddle, a.depth):.3f} | {j1.result():.3f} | "
+            print(f"| {paddle} | {kh} | {gkh} | {linear_kr(kh, gkh, paddle, a.depth, a.over_depth):.3f} | {j1.result():.3f} | "
                   f"{j0.result():.3f} |", flush=True)
 
 

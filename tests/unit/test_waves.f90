@@ -6,12 +6,14 @@
 program test_waves
    use kinds, only: rp
    use constants, only: pi
-   use wave_theory, only: wave_number, piston_transfer, flap_transfer, piston_second_order, miche_limit, ramp, ramp_rate
+   use wave_theory, only: wave_number, piston_transfer, flap_transfer, piston_second_order, miche_limit, ramp, ramp_rate, &
+                          paddle_mode
    use wave_fftw, only: fft_c2r, fft_r2c
    use wave_spectrum, only: jonswap, jonswap_paddle_signal, signal_hm0, signal_peak_frequency, signal_periodogram, &
                             rng_t, rng_seed, rng_uniform
    use wave_signal, only: signal_t, signal_eval, signal_read
-   use wave_paddle, only: paddle_t, paddle_motion, paddle_target_eta, paddle_absorb_set, paddle_absorb_advance
+   use wave_paddle, only: paddle_t, paddle_motion, paddle_target_eta, paddle_absorb_set, paddle_absorb_advance, &
+                          paddle_absorb_tune
    use options, only: wave_regular, paddle_piston, paddle_flap, paddle_names
    use testing, only: check, check_close, test_summary
    implicit none
@@ -29,6 +31,9 @@ program test_waves
    call test_signal_read()
    call test_paddle_end()
    call test_absorber()
+   call test_paddle_modes(.false.)
+   call test_paddle_modes(.true.)
+   call test_absorber_tune()
    call test_summary('test_waves')
 
 contains
@@ -414,7 +419,7 @@ contains
       pad%absorb = .true.
       pad%gain = 5.0_rp
       pad%tau = 2.0_rp
-      pad%delay = 0.05_rp
+      pad%lag = 0.05_rp
       xc = 0.0_rp
       mean = 0.0_rp
       t = 0.0_rp
@@ -433,7 +438,7 @@ contains
       call check(size(hist, 2) <= 52 .and. size(hist, 2) >= 50, 'absorber: history holds the last delay only')
       ! the last step: e = 0.01 - mean of the step D/c before (linear between samples), and the drift term
       call check_close(pad%uc, -5.0_rp*(0.01_rp - 0.01_rp*(1.0_rp - (1.0_rp - 0.0005_rp)**50)) - xc/2.0_rp, &
-                       1.0e-12_rp, 'absorber: u_c = -G e(t - D/c) - X_c / tau')
+                       1.0e-12_rp, 'absorber: u_c = -G e(t - lag) - X_c / tau')
       ! a measured level rising as 0.2 t: the paddle reads it D/c late
       deallocate (hist)
       pad%tau = 1.0e12_rp
@@ -443,16 +448,91 @@ contains
          t = 0.0007_rp*k
          call paddle_absorb_set(pad, t, 0.2_rp*t, xc, mean, hist)
       end do
-      call check_close(pad%uc, -5.0_rp*0.2_rp*(t - 0.05_rp), 1.0e-10_rp, 'absorber: the elevation is read D/c late')
-      ! an active paddle in still water: the target is read 2 D/c late, and pushes
+      call check_close(pad%uc, -5.0_rp*0.2_rp*(t - 0.05_rp), 1.0e-10_rp, 'absorber: the elevation is read lag late')
+      ! an active paddle in still water: its own wave at the gauge, the target
+      ! delay late and its near field a quarter period late, is taken for a
+      ! wave coming in, and pushes
       deallocate (hist)
       pad%t_start = 0.0_rp
       pad%omega = 2.0_rp*pi
+      pad%omega_abs = 2.0_rp*pi
       pad%eta1 = 0.01_rp
       pad%t_ramp = 0.0_rp
+      pad%lag = 0.0_rp
+      pad%delay = 0.1_rp
+      pad%near = 0.2_rp
       t = 1.3_rp
       call paddle_absorb_set(pad, t, 0.0_rp, 0.0_rp, 0.0_rp, hist)
-      call check_close(pad%uc, 5.0_rp*0.01_rp*cos(2.0_rp*pi*(t - 0.1_rp)), 1.0e-12_rp, &
-                       'absorber: the target elevation is read 2 D/c late')
+      call check_close(pad%uc, 5.0_rp*0.01_rp*(cos(2.0_rp*pi*(t - 0.1_rp)) + 0.2_rp*cos(2.0_rp*pi*(t - 0.25_rp))), &
+                       1.0e-12_rp, 'absorber: the own wave is the target delay late and its near field T/4 late')
    end subroutine test_absorber
+
+   !> The modes of a paddle's flow (Havelock): the evanescent wave numbers
+   !> solve omega^2 = -g kappa tan(kappa d) (the first 100 to 1e-9); the modes together give back the
+   !> face's velocity profile (piston 1, flap (z + d)/d) inside the water to
+   !> 2e-3 with 4000 modes; the progressive mode's elevation is Biesel's.
+   subroutine test_paddle_modes(flap)
+      logical, intent(in) :: flap
+      real(rp), parameter :: d = 0.25_rp
+      real(rp) :: w, k, c0, kn, cn, z, u, worst_root, worst_u, p0
+      integer :: n, iz
+      logical :: bracketed
+      character(len=:), allocatable :: what
+      what = 'paddle modes ('//trim(merge('flap  ', 'piston', flap))//'): '
+      w = sqrt(g*(1.2_rp/d)*tanh(1.2_rp))
+      call paddle_mode(flap, 0, w, d, g, k, c0)
+      p0 = w/(g*k)*c0*cosh(k*d)
+      if (flap) then
+         call check_close(p0, flap_transfer(k*d)/w, 1.0e-12_rp, what//'progressive elevation = (H/S) / omega')
+      else
+         call check_close(p0, piston_transfer(k*d)/w, 1.0e-12_rp, what//'progressive elevation = (H/S) / omega')
+      end if
+      worst_root = 0.0_rp
+      worst_u = 0.0_rp
+      bracketed = .true.
+      do iz = 1, 3
+         z = -0.25_rp*iz*d
+         u = c0*cosh(k*(z + d))
+         do n = 1, 4000
+            call paddle_mode(flap, n, w, d, g, kn, cn)
+            if (iz == 1 .and. n <= 100) then
+               worst_root = max(worst_root, abs(w*w + g*kn*tan(kn*d))/(w*w))
+               bracketed = bracketed .and. kn*d > (n - 0.5_rp)*pi .and. kn*d < n*pi
+            end if
+            u = u + cn*cos(kn*(z + d))
+         end do
+         worst_u = max(worst_u, abs(u - merge((z + d)/d, 1.0_rp, flap)))
+      end do
+      call check(worst_root < 1.0e-9_rp, what//'evanescent roots to 1e-9')
+      call check(bracketed, what//'kappa_n d in ((n - 1/2) pi, n pi)')
+      call check(worst_u < 2.0e-3_rp, what//'the modes give back the face velocity to 2e-3')
+   end subroutine test_paddle_modes
+
+   !> The tuned absorber's limits: far from the face (no evanescent modes
+   !> left) and with slow filters (tau -> infinity) the gain is Biesel's
+   !> omega / (H/S) and the wave coming in is read x_g / c late; near the
+   !> face the evanescent modes, a quarter period out of phase, are seen.
+   subroutine test_absorber_tune()
+      type(paddle_t) :: pad
+      real(rp), parameter :: d = 0.25_rp
+      real(rp) :: w, k
+      w = sqrt(g*(1.2_rp/d)*tanh(1.2_rp))
+      k = 1.2_rp/d
+      pad%depth = d
+      pad%omega_abs = w
+      pad%tau = 1.0e12_rp
+      call paddle_absorb_tune(pad, g, 5.0_rp*d)
+      call check_close(pad%gain, w/piston_transfer(1.2_rp), 1.0e-6_rp, 'absorber tune: far, slow: G = omega / (H/S)')
+      call check_close(pad%lag, 5.0_rp*d*k/w, 1.0e-6_rp, 'absorber tune: far, slow: lag = x_g / c')
+      call check_close(pad%delay, 5.0_rp*d*k/w, 1.0e-12_rp, 'absorber tune: own wave delay = x_g / c')
+      call check(abs(pad%near) < 1.0e-6_rp, 'absorber tune: far: no near field')
+      ! slow filters of 5 T lead by 2 atan(1 / (10 pi)): read that much later
+      pad%tau = 5.0_rp*2.0_rp*pi/w
+      call paddle_absorb_tune(pad, g, 5.0_rp*d)
+      call check_close(pad%lag, (5.0_rp*d*k + 2.0_rp*atan(0.1_rp/pi))/w, 1.0e-6_rp, &
+                       'absorber tune: filters of 5 T: lag = x_g / c + 2 atan(1 / (10 pi)) / omega')
+      ! at 0.34 d the piston's evanescent modes are about 3 % of its wave, in quadrature
+      call paddle_absorb_tune(pad, g, 0.084_rp)
+      call check(pad%near > 0.02_rp .and. pad%near < 0.05_rp, 'absorber tune: near the face: 2 to 5 % near field')
+   end subroutine test_absorber_tune
 end program test_waves
