@@ -154,6 +154,10 @@ contains
          source = 0.0_rp
          if (r%prm%boundary == bnd_dynamic) source = r%prm%h - 0.5_rp*r%prm%dp
          call paddle_absorb_tune(r%walls%paddle, c%fluid%gravity, r%walls%paddle%gauge_offset - source)
+         r%wave_report = r%wave_report//new_line('a')//'  absorber tuned to its gauge '// &
+                         real_str(r%walls%paddle%gauge_offset - source)//" m from the paddle's wave source: gain "// &
+                         real_str(r%walls%paddle%gain)//' 1/s, the wave coming in read '//real_str(r%walls%paddle%lag)// &
+                         ' s late'
          ! (3D: at mid-width; the paddle moves uniformly over the width)
          call gauges_init(r%pg, [gauge_elevation], [r%walls%paddle%x_face], [0.0_rp], &
                           [merge(0.5_rp*(c%domain%zmin + c%domain%zmax), 0.0_rp, ndim == 3)])
