@@ -46,25 +46,22 @@ class Flume:
     damping: tuple[float, float]
 
 
-def _paddle_modes(omega: float, depth: float, paddle: str, x: float, g: float = G,
-                  n_max: int = 100000) -> tuple[float, float, float]:
-    """k, the progressive elevation per unit face velocity P (in phase with the velocity)
-    and q, the evanescent modes' elevation i q at x in front of the face (Havelock; the
-    solver's wave_theory paddle_mode and wave_paddle paddle_absorb_tune)."""
-    k = 2.0 * math.pi / _wavelength(omega, depth, g)
-    P = biesel_transfer(k * depth, paddle) / omega
+def paddle_modes(kh: float, depth: float, paddle: str, x: float, g: float = G) -> tuple[float, float, float]:
+    """omega, the progressive elevation per unit face velocity P (in phase with the
+    velocity) and q, the evanescent modes' elevation i q at x in front of the face
+    (Havelock), of a wave of kh: the solver's wave_theory paddle_mode, summed as
+    wave_paddle paddle_absorb_tune does."""
+    omega = 2.0 * math.pi / period_for_kh(kh, depth, g)
+    P = biesel_transfer(kh, paddle) / omega
     c = omega * omega * depth / g
     q = 0.0
-    for n in range(1, n_max + 1):
-        lo, hi = 0.0, 0.5 * math.pi          # y = n pi - dl, (n pi - dl) tan dl = c
-        for _ in range(200):
+    n = 0
+    while True:
+        n += 1
+        lo, hi = 0.0, 0.5 * math.pi          # kappa_n d = n pi - dl, (n pi - dl) tan dl = omega^2 d / g
+        while hi - lo > 4e-16 * hi:
             dl = 0.5 * (lo + hi)
-            if (n * math.pi - dl) * math.tan(dl) > c:
-                hi = dl
-            else:
-                lo = dl
-            if hi - lo <= 4e-16 * hi:
-                break
+            lo, hi = (lo, dl) if (n * math.pi - dl) * math.tan(dl) > c else (dl, hi)
         y = n * math.pi - 0.5 * (lo + hi)
         kn = y / depth
         proj = (y * math.sin(y) + math.cos(y) - 1.0) / (kn * kn * depth) if paddle == "flap" else math.sin(y) / kn
@@ -72,36 +69,34 @@ def _paddle_modes(omega: float, depth: float, paddle: str, x: float, g: float = 
         term = -omega / (g * kn) * cn * math.cos(y) * math.exp(-kn * max(x, 0.0))
         q += term
         if abs(term) < 1e-12 * P and n > 10:
-            break
-    return k, P, q
+            return omega, P, q
 
 
-def _wavelength(omega: float, depth: float, g: float = G) -> float:
-    k = omega * omega / g
-    for _ in range(100):
-        k = omega * omega / (g * math.tanh(k * depth))
-    return 2.0 * math.pi / k
+def absorber_tuning(kh: float, paddle: str, depth: float, x_gauge: float, tau_periods: float = 5.0,
+                    g: float = G) -> tuple[float, float, float]:
+    """The solver's absorber tuned to a wave of kh (wave_paddle paddle_absorb_tune): its
+    gain G [1/s], the lag t_l [s] with which it reads the wave coming in, and its near
+    field q (per unit of its own wave), for a gauge x_gauge in front of the wave's source
+    and filters of tau_periods periods."""
+    omega, P, q = paddle_modes(kh, depth, paddle, x_gauge, g)
+    tau = tau_periods * 2.0 * math.pi / omega
+    K = (1.0 + 1j / (omega * tau)) ** 2 / (P * complex(math.cos(kh / depth * x_gauge), -math.sin(kh / depth * x_gauge))
+                                         - 1j * q)
+    return abs(K), (math.atan2(K.imag, K.real) % (2.0 * math.pi)) / omega, q / P
 
 
 def absorber_linear_kr(kh: float, gain_kh: float, paddle: str, depth: float, x_gauge: float,
                        tau_periods: float = 5.0, g: float = G) -> float:
     """The reflection coefficient of linear theory for the solver's absorbing paddle
-    (doc/waves.md, "Active absorption at the paddle"): tuned at gain_kh (its gain and lag
-    from the evanescent modes at the gauge x_gauge in front of the wave's source and the
-    lead of the two filters of tau = tau_periods periods), met by a wave of kh. The gauge
-    reads the wave coming in, its reflection by the paddle at rest and the correction's
-    own wave and modes; Kr = |I + U P| / |I|."""
-    def omega_of(khx: float) -> float:
-        return 2.0 * math.pi / period_for_kh(khx, depth, g)
-    w0 = omega_of(gain_kh)
-    tau = tau_periods * 2.0 * math.pi / w0
-    k0, P0, q0 = _paddle_modes(w0, depth, paddle, x_gauge, g)
-    K0 = (1.0 + 1j / (w0 * tau)) ** 2 / (P0 * complex(math.cos(k0 * x_gauge), -math.sin(k0 * x_gauge)) - 1j * q0)
-    gain, lag = abs(K0), (math.atan2(K0.imag, K0.real) % (2.0 * math.pi)) / w0
-    w = omega_of(kh)
-    k, P, q = _paddle_modes(w, depth, paddle, x_gauge, g)
+    (doc/waves.md, "Active absorption at the paddle"): tuned at gain_kh (absorber_tuning),
+    met by a wave of kh. The gauge reads the wave coming in, its reflection by the paddle
+    at rest and the correction's own wave and modes; Kr = |I + U P| / |I|."""
+    gain, lag, _ = absorber_tuning(gain_kh, paddle, depth, x_gauge, tau_periods, g)
+    tau = tau_periods * period_for_kh(gain_kh, depth, g)
+    w, P, q = paddle_modes(kh, depth, paddle, x_gauge, g)
+    kx = kh / depth * x_gauge
     Kc = gain * complex(math.cos(w * lag), math.sin(w * lag)) / (1.0 + 1j / (w * tau)) ** 2
-    e_in, e_out = complex(math.cos(k * x_gauge), -math.sin(k * x_gauge)), complex(math.cos(k * x_gauge), math.sin(k * x_gauge))
+    e_in, e_out = complex(math.cos(kx), -math.sin(kx)), complex(math.cos(kx), math.sin(kx))
     U = -Kc * (e_in + e_out) / (1.0 + Kc * (P * e_out + 1j * q))
     return abs(1.0 + U * P)
 

@@ -65,7 +65,6 @@ module solver
       type(decomp_t) :: dc                      !< the slabs of the ranks
       type(gauges_t) :: gt                      !< the gauges, their file and scratch
       type(gauges_t) :: pg                      !< absorbing paddle: the elevation gauge in front of its face
-      real(rp) :: eta_pad = 0.0_rp              !< absorbing paddle: the elevation measured before this step [m]
       type(damping_t) :: zone                   !< the absorbing zone
       type(porous_t) :: por                     !< the porous regions
       real(rp) :: t_next_gauge = 0.0_rp
@@ -104,8 +103,7 @@ contains
          if (r%st%dt > r%ss%dt_limit) call refuse_fixed_step(r, r%ss%dt_limit)
          if (size(r%bodies) > 0) call contact_memory_advance(r%ct, r%bodies, r%st%dt)
          if (r%zone%on) call damping_apply(r%zone, r%p, r%st%dt)
-         if (r%walls%paddle%absorb) call paddle_absorb_advance(r%walls%paddle, r%st%dt, r%eta_pad, r%st%pad_xc, &
-                                                               r%st%pad_eta_mean)
+         if (r%walls%paddle%absorb) call paddle_absorb_advance(r%walls%paddle, r%st%dt, r%st%pad_xc, r%st%pad_eta_mean)
          r%st%t = r%st%t + r%st%dt
          r%st%istep = r%st%istep + 1
          call gauges_due(r)
@@ -202,7 +200,7 @@ contains
    subroutine absorb_measure(r)
       type(run_t), intent(inout) :: r
       real(rp), allocatable :: acc(:)
-      real(rp) :: val(1), xf, uf
+      real(rp) :: val(1), xf, uf, eta_m
       associate (pad => r%walls%paddle)
          ! the face now, with the correction it has had so far
          pad%xc = r%st%pad_xc
@@ -224,10 +222,10 @@ contains
          call gauges_sums(r%pg, r%prm, r%g, r%p, r%por, acc)
          call comm_sum(acc)
          call gauges_values(r%pg, r%prm, acc, val)
-         r%eta_pad = val(1)
+         eta_m = val(1)
          ! dry: the sample of no wave coming in, which asks for no correction
-         if (ieee_is_nan(r%eta_pad)) r%eta_pad = r%st%pad_eta_mean + paddle_own_wave(pad, r%st%t)
-         call paddle_absorb_set(pad, r%st%t, r%eta_pad, r%st%pad_xc, r%st%pad_eta_mean, r%st%pad_hist)
+         if (ieee_is_nan(eta_m)) eta_m = r%st%pad_eta_mean + paddle_own_wave(pad, r%st%t)
+         call paddle_absorb_set(pad, r%st%t, eta_m, r%st%pad_xc, r%st%pad_eta_mean, r%st%pad_hist)
       end associate
    end subroutine absorb_measure
 

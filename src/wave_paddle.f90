@@ -19,7 +19,7 @@
 module wave_paddle
    use kinds, only: rp
    use constants, only: pi
-   use wave_theory, only: ramp, ramp_rate, paddle_mode, piston_transfer, flap_transfer
+   use wave_theory, only: ramp, ramp_rate, paddle_mode, piston_transfer, flap_transfer, wave_number
    use wave_signal, only: signal_t, signal_eval
    use options, only: wave_regular
    implicit none
@@ -53,8 +53,9 @@ module wave_paddle
       real(rp) :: near = 0.0_rp        !< the paddle's evanescent modes at the gauge per unit of its wave, a quarter period late
       real(rp) :: lag = 0.0_rp         !< the wave coming in is read this late [s]
       real(rp) :: omega_abs = 1.0_rp   !< the (peak) angular frequency the absorber is tuned to [rad/s]
-      ! the correction over the present step (paddle_absorb_set): X_c + (t - t_c) u_c
-      real(rp) :: xc = 0.0_rp, uc = 0.0_rp, tc = 0.0_rp
+      ! the correction over the present step (paddle_absorb_set): X_c + (t - t_c) u_c,
+      ! and the wave coming in at t_c, which the step's mean level takes up
+      real(rp) :: xc = 0.0_rp, uc = 0.0_rp, tc = 0.0_rp, ein = 0.0_rp
    end type paddle_t
 
 contains
@@ -157,7 +158,8 @@ contains
       real(rp), intent(in) :: t, eta_m, xc, eta_mean
       real(rp), allocatable, intent(inout) :: hist(:, :)   !< (time, e) of past steps, oldest first
       real(rp) :: e
-      call history_add(hist, t, paddle_incoming(pad, t, eta_m, eta_mean), pad%lag)
+      pad%ein = paddle_incoming(pad, t, eta_m, eta_mean)
+      call history_add(hist, t, pad%ein, pad%lag)
       e = history_at(hist, t - pad%lag)
       pad%xc = xc
       pad%tc = t
@@ -205,24 +207,24 @@ contains
       real(rp) :: k, kn, cn, q, pp, term
       integer :: n
       associate (flap => pad%flap, omega => pad%omega_abs, depth => pad%depth)
-      call paddle_mode(flap, 0, omega, depth, g, k, cn)
-      if (flap) then
-         pp = flap_transfer(k*depth)/omega
-      else
-         pp = piston_transfer(k*depth)/omega
-      end if
-      q = 0.0_rp
-      do n = 1, 100000
-         call paddle_mode(flap, n, omega, depth, g, kn, cn)
-         term = -omega/(g*kn)*cn*cos(kn*depth)*exp(-kn*max(x_g, 0.0_rp))
-         q = q + term
-         if (abs(term) < 1.0e-12_rp*pp .and. n > 10) exit
-      end do
-      kk = (1.0_rp + iu/(omega*pad%tau))**2/(pp*exp(-iu*k*x_g) - iu*q)
-      pad%gain = abs(kk)
-      pad%lag = modulo(atan2(aimag(kk), real(kk)), 2.0_rp*pi)/omega
-      pad%delay = x_g*k/omega
-      pad%near = q/pp
+         k = wave_number(omega, depth, g)
+         if (flap) then
+            pp = flap_transfer(k*depth)/omega
+         else
+            pp = piston_transfer(k*depth)/omega
+         end if
+         q = 0.0_rp
+         do n = 1, 100000
+            call paddle_mode(flap, n, omega, depth, g, kn, cn)
+            term = -omega/(g*kn)*cn*cos(kn*depth)*exp(-kn*max(x_g, 0.0_rp))
+            q = q + term
+            if (abs(term) < 1.0e-12_rp*pp .and. n > 10) exit
+         end do
+         kk = (1.0_rp + iu/(omega*pad%tau))**2/(pp*exp(-iu*k*x_g) - iu*q)
+         pad%gain = abs(kk)
+         pad%lag = modulo(atan2(aimag(kk), real(kk)), 2.0_rp*pi)/omega
+         pad%delay = x_g*k/omega
+         pad%near = q/pp
       end associate
    end subroutine paddle_absorb_tune
 
@@ -264,13 +266,13 @@ contains
    end function history_at
 
    !> The absorber's state after a step of dt from the time of paddle_absorb_set.
-   pure subroutine paddle_absorb_advance(pad, dt, eta_m, xc, eta_mean)
+   pure subroutine paddle_absorb_advance(pad, dt, xc, eta_mean)
       type(paddle_t), intent(in) :: pad
-      real(rp), intent(in) :: dt, eta_m
+      real(rp), intent(in) :: dt
       real(rp), intent(inout) :: xc, eta_mean
       xc = pad%xc + dt*pad%uc
       ! the mean of what is not the paddle's own wave: a level that wave leaves alone
-      eta_mean = eta_mean + (dt/pad%tau)*paddle_incoming(pad, pad%tc, eta_m, eta_mean)
+      eta_mean = eta_mean + (dt/pad%tau)*pad%ein
    end subroutine paddle_absorb_advance
 
    !> Position and velocity of a paddle particle whose rest position is xb.

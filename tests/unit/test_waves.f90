@@ -429,7 +429,7 @@ contains
       call check_close(x, -0.05_rp*0.001_rp, 1.0e-12_rp, 'absorber: X = X_c + (t - t_c) u_c')
       call check_close(u, -0.05_rp, 1.0e-14_rp, 'absorber: U = u_c')
       do k = 1, 100
-         call paddle_absorb_advance(pad, 0.001_rp, 0.01_rp, xc, mean)
+         call paddle_absorb_advance(pad, 0.001_rp, xc, mean)
          t = t + 0.001_rp
          call paddle_absorb_set(pad, t, 0.01_rp, xc, mean, hist)
       end do
