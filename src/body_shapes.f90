@@ -14,10 +14,10 @@ module body_shapes
    use input_body, only: body_cfg, body_turn, body_tilted
    use options, only: shape_circle, shape_box, shape_wedge, shape_polygon, shape_stl
    use geom, only: point_in_polygon, distance_to_polygon, nearest_edge_normal, polygon_area
-   use geom_stl, only: stl_props, stl_inside, stl_nearest, stl_bounds, stl_triangle_point, stl_sort_points
+   use geom_stl, only: stl_t, stl_props, stl_inside, stl_nearest, stl_bounds, stl_triangle_point, stl_sort_points
    implicit none
    private
-   public :: body_outline, body_mass_properties, body_particles
+   public :: body_outline, body_mass_properties, body_particles, mesh_shell
 
    integer, parameter :: circle_sides = 64   !< polygon drawn for a circle outline
 
@@ -313,67 +313,88 @@ contains
       integer, intent(in) :: layers
       real(rp), allocatable, intent(out) :: xb(:, :), nb(:, :)
       integer, allocatable, intent(out) :: surf(:)
-      real(rp) :: lo(3), hi(3), pos(3), q(3), nrm(3), r3(3, 3), d, nsum(3), sp(3)
-      integer :: nn(3), i, j, k, m, ist, nfaces
-      character(len=200) :: emsg
+      real(rp) :: lo(3), hi(3), sp(3), r3(3, 3)
+      real(rp), allocatable :: xs(:, :), ns(:, :)
+      integer :: nn(3), m
       call stl_bounds(c%mesh, lo, hi)
       nn = max(1, nint((hi - lo)/dp))
       sp = (hi - lo)/nn
+      call mesh_shell(c%mesh, lo, sp, nn, dp, layers, xs, ns, surf)
+      m = size(surf)
+      if (m == 0) then
+         ! read_mesh (input_body) refuses a mesh whose lattice holds no particle
+         call fatal('mesh_particles: no lattice point inside the mesh (internal error)')
+      end if
       r3 = body_turn(c)
+      xb = matmul(r3(1:ndim, :), xs)
+      nb = matmul(r3(1:ndim, :), ns)
+   end subroutine mesh_particles
+
+   !> The points x0 + (i - 1/2, j - 1/2, k - 1/2) sp, i, j, k up to nn, inside the
+   !> closed mesh and less than layers dp from its surface (xs), with their
+   !> normals (ns) and surface flags (surf: 1 within dp of the surface, 2 there
+   !> on an edge or a corner, 0 deeper). The normal is that of the nearest
+   !> triangle; at an edge or a corner (faces more than 30 degrees apart within
+   !> dp/2 of the nearest) the mean of the faces' normals (the nearest face's
+   !> where two opposite faces are as near: the middle of a thin wall).
+   subroutine mesh_shell(mesh, x0, sp, nn, dp, layers, xs, ns, surf)
+      type(stl_t), intent(in) :: mesh
+      real(rp), intent(in) :: x0(3), sp(3), dp
+      integer, intent(in) :: nn(3), layers
+      real(rp), allocatable, intent(out) :: xs(:, :), ns(:, :)
+      integer, allocatable, intent(out) :: surf(:)
+      real(rp) :: pos(3), q(3), nrm(3), d, nsum(3)
+      integer :: i, j, k, m, ist, nfaces
+      character(len=200) :: emsg
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (xb(ndim, product(nn)), nb(ndim, product(nn)), surf(product(nn)), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'xb, nb, surf in mesh_particles')
+      allocate (xs(3, product(nn)), ns(3, product(nn)), surf(product(nn)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'xs, ns, surf in mesh_shell')
       m = 0
       do k = 1, nn(3)
          do j = 1, nn(2)
             lattice: do i = 1, nn(1)
-               pos = lo + ([i, j, k] - 0.5_rp)*sp
-               call stl_nearest(c%mesh, pos, q, nrm)
+               pos = x0 + ([i, j, k] - 0.5_rp)*sp
+               call stl_nearest(mesh, pos, q, nrm)
                d = norm2(q - pos)
                if (d >= layers*dp) cycle lattice
-               if (.not. stl_inside(c%mesh, pos)) cycle lattice
+               if (.not. stl_inside(mesh, pos)) cycle lattice
                call edge_normals(pos, nrm, nsum, nfaces)
-               ! opposite faces as near (the middle of a thin wall): the nearest face's
                if (norm2(nsum) < 0.5_rp) nsum = nrm
                m = m + 1
-               xb(:, m) = matmul(r3(1:ndim, :), pos)
-               nb(:, m) = matmul(r3(1:ndim, :), nsum/norm2(nsum))
+               xs(:, m) = pos
+               ns(:, m) = nsum/norm2(nsum)
                surf(m) = 0
                if (d < dp) surf(m) = merge(1, 2, nfaces == 1)
             end do lattice
          end do
       end do
-      if (m == 0) then
-         ! read_mesh (input_body) refuses a mesh whose lattice holds no particle
-         call fatal('mesh_particles: no lattice point inside the mesh (internal error)')
-      end if
-      xb = xb(:, 1:m)
-      nb = nb(:, 1:m)
+      xs = xs(:, 1:m)
+      ns = ns(:, 1:m)
       surf = surf(1:m)
    contains
       !> The sum of the distinct normals (more than 30 degrees apart) of the
       !> triangles within dp/2 of the nearest one's distance from x, and how many.
-      subroutine edge_normals(x, n0, ns, nf)
+      subroutine edge_normals(x, n0, nsm, nf)
          real(rp), intent(in) :: x(3), n0(3)
-         real(rp), intent(out) :: ns(3)
+         real(rp), intent(out) :: nsm(3)
          integer, intent(out) :: nf
          real(rp) :: y(3), n1(3), dist0, e(3, 3)
          integer :: t
-         ns = n0
+         nsm = n0
          nf = 1
          e(:, 1) = n0
          dist0 = d
-         do t = 1, c%mesh%nt
-            call stl_triangle_point(c%mesh%v(:, :, t), x, y, n1)
+         do t = 1, mesh%nt
+            call stl_triangle_point(mesh%v(:, :, t), x, y, n1)
             if (.not. norm2(n1) > 0.0_rp .or. norm2(y - x) > dist0 + 0.5_rp*dp) cycle
             if (any(matmul(n1, e(:, 1:nf)) > cos(pi/6.0_rp))) cycle
             if (nf == 3) cycle
             nf = nf + 1
             e(:, nf) = n1
-            ns = ns + n1
+            nsm = nsm + n1
          end do
       end subroutine edge_normals
-   end subroutine mesh_particles
+   end subroutine mesh_shell
 
    !> Area, centroid and polar second moment of area about the centroid.
    pure subroutine polygon_moments(v, area, cen, j0)

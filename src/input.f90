@@ -13,6 +13,7 @@ module input
    use input_wave, only: wavemaker_cfg, gauge_cfg, damping_cfg, read_wavemaker, write_wavemaker, read_gauges, &
                          write_gauges, read_damping, write_damping, z_left_out
    use input_porous, only: porous_cfg, read_porous, write_porous
+   use input_mesh, only: mesh_cfg, read_meshes, write_meshes
    use input_breakwater, only: breakwater_cfg, armour_cfg, read_breakwater, write_breakwater, read_armour, &
                                write_armour
    use porous, only: max_regions
@@ -37,6 +38,7 @@ module input
       type(fluid_cfg) :: fluid
       type(numerics_cfg) :: numerics
       type(geom_object), allocatable :: objs(:)
+      type(mesh_cfg), allocatable :: meshes(:)     !< &stl: 3D fixed solids from triangle meshes
       type(body_cfg), allocatable :: bodies(:)
       type(contact_cfg) :: contact
       type(wavemaker_cfg) :: wavemaker
@@ -71,6 +73,7 @@ contains
       call read_wavemaker(file, c%wavemaker, c%breakwater)
       call read_case_numerics(file, c)
       call read_geometry(file, c%numerics%dp, c%numerics%h_over_dp*c%numerics%dp, c%objs)
+      call read_meshes(file, c%numerics%dp, c%meshes)
       call read_bodies(file, c%numerics%dp, c%bodies)
       call read_armour(file, c%numerics%dp, c%armour)
       call read_gauges(file, c%gauges)
@@ -110,6 +113,7 @@ contains
             end if
          end do others
       end do
+      call check_meshes(c, tol)
       call check_bodies(c, tol)
       call check_waves(c)
       call check_porous(c, tol)
@@ -457,6 +461,7 @@ contains
       call write_fluid(u, c%fluid)
       call write_numerics(u, c%numerics)
       call write_geometry(u, c%objs)
+      call write_meshes(u, c%meshes)
       call write_bodies(u, c%bodies)
       call write_contact(u, c%contact)
       call write_breakwater(u, c%breakwater)
@@ -467,6 +472,32 @@ contains
       call write_porous(u, c%porous)
       close (u)
    end subroutine write_case
+
+   !> Every &stl mesh lies in the domain, and with mDBC is deep enough behind
+   !> its faces (the rows for 2h - dp/2, as check_mdbc asks of the walls).
+   subroutine check_meshes(c, tol)
+      type(case_cfg), intent(in) :: c
+      real(rp), intent(in) :: tol
+      integer :: k
+      real(rp) :: dlo(3), dhi(3)
+      character(len=:), allocatable :: g
+      dlo = [c%domain%xmin, c%domain%ymin, c%domain%zmin]
+      dhi = [c%domain%xmax, c%domain%ymax, c%domain%zmax]
+      do k = 1, size(c%meshes)
+         g = 'stl #'//int_str(k)
+         associate (m => c%meshes(k))
+            if (any(m%lo < dlo - tol) .or. any(m%hi > dhi + tol)) call input_error(c%file, g, &
+               'stl_file', 'the mesh reaches outside the &domain: it spans ['//real_str(m%lo(1))//', '// &
+               real_str(m%hi(1))//'] x ['//real_str(m%lo(2))//', '//real_str(m%hi(2))//'] x ['// &
+               real_str(m%lo(3))//', '//real_str(m%hi(3))//'] (move it with x, y, z or scale it with stl_scale)')
+            if (c%numerics%boundary_id == bnd_mdbc .and. m%layers > 0 .and. &
+                m%layers < ceiling(2.0_rp*c%numerics%h_over_dp - 0.5_rp - 1.0e-9_rp)) call input_error(c%file, g, &
+               'layers', "'mdbc' needs a solid 2h - dp/2 deep behind its faces: at least "// &
+               int_str(ceiling(2.0_rp*c%numerics%h_over_dp - 0.5_rp - 1.0e-9_rp))//' rows (got '// &
+               int_str(m%layers)//'; 0 takes enough for 2h)')
+         end associate
+      end do
+   end subroutine check_meshes
 
    !> An object's own extent across the width (3D) lies in the domain's.
    subroutine check_width_in_domain(c, o, gi, tol)

@@ -15,7 +15,7 @@ module input_check
              lower, real_str, int_str, approx_str
 
    character(len=*), parameter :: known_groups(*) = [character(len=16) :: &
-      'run', 'domain', 'fluid', 'numerics', 'box', 'polygon', 'slope', 'body', 'contact', 'wavemaker', &
+      'run', 'domain', 'fluid', 'numerics', 'box', 'polygon', 'slope', 'stl', 'body', 'contact', 'wavemaker', &
       'gauge', 'damping', 'breakwater', 'armour', 'porous']
 
 contains

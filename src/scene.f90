@@ -4,8 +4,9 @@ module scene
    use kinds, only: rp
    use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, ndim, nsec
    use input, only: case_cfg
+   use input_mesh, only: mesh_cfg, mesh_lattice, mesh_layers
    use input_body, only: body_cfg, body_zrange, body_turn, body_tilted
-   use body_shapes, only: body_outline, body_mass_properties, body_particles
+   use body_shapes, only: body_outline, body_mass_properties, body_particles, mesh_shell
    use body_dynamics, only: body_t
    use rigid, only: rigid_set_angle_z, rigid_tilt, nrot, ndof
    use options, only: motion_floating, motion_fixed, motion_prescribed, role_solid, role_fluid, role_filter, wall_fixed, &
@@ -60,8 +61,6 @@ contains
       real(rp), allocatable :: cell(:)
       type(outline_t), allocatable :: holes(:)
       type(porous_t) :: por
-      integer :: ist
-      character(len=200) :: emsg
       dp = c%numerics%dp
       p%n = 0
       p%n_id = 0
@@ -69,29 +68,7 @@ contains
       p%history = c%numerics%integrator_id == integ_verlet
       ! the ghost offsets of the modified dynamic boundary only where it runs
       p%mdbc = c%numerics%boundary_id == bnd_mdbc
-      ! bodies displace the fluid: their outlines are holes in every fluid fill
-      allocate (holes(size(c%bodies)), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'holes in scene_build')
-      do k = 1, size(c%bodies)
-         holes(k)%v = body_outline(c%bodies(k))
-         if (ndim == 3) holes(k)%zr = body_zrange(c%bodies(k))
-         if (ndim == 3 .and. c%bodies(k)%shape_id == shape_stl) then
-            associate (bc => c%bodies(k))
-               holes(k)%stl = .true.
-               holes(k)%mesh = bc%mesh
-               holes(k)%rmax = maxval(norm2(bc%mesh%v, dim=1))
-               holes(k)%c = [bc%x, bc%y, bc%z]
-               holes(k)%turn = body_turn(bc)
-            end associate
-         else if (ndim == 3 .and. body_tilted(c%bodies(k))) then
-            associate (bc => c%bodies(k))
-               holes(k)%box = .true.
-               holes(k)%c = [bc%x, bc%y, bc%z]
-               holes(k)%half = 0.5_rp*[bc%width, bc%height, bc%depth]
-               holes(k)%turn = body_turn(bc)
-            end associate
-         end if
-      end do
+      call scene_holes(c, holes)
       por = scene_porous(c)
       zdom = [c%domain%zmin, c%domain%zmax]
       do k = 1, size(c%objs)
@@ -100,6 +77,9 @@ contains
          else
             call add_lattice(c%objs(k), k, dp, zdom, p, c%objs, holes, por)
          end if
+      end do
+      do k = 1, size(c%meshes)
+         call add_mesh_solid(c, k, p)
       end do
       call add_pore_water(c, dp, zdom, p, holes, por, cell)
       call scene_bodies(c, bodies, p)
@@ -190,6 +170,9 @@ contains
       end do
       n = n/c%numerics%dp**2
       if (ndim == 3) n = n*max(1.0_rp, (c%domain%zmax - c%domain%zmin)/c%numerics%dp)
+      do k = 1, size(c%meshes)
+         n = n + product(c%meshes(k)%hi - c%meshes(k)%lo)/c%numerics%dp**3
+      end do
    end function scene_estimate
 
    !> The bodies of a case at their start state, and (when p is given) their
@@ -414,6 +397,97 @@ contains
          found = .true.
       end do edges
    end function exposed_edge
+
+   !> The holes in every fluid fill: the bodies displace the water, and so do
+   !> the &stl solids (water around a structure is a box with the mesh left out).
+   subroutine scene_holes(c, holes)
+      type(case_cfg), intent(in) :: c
+      type(outline_t), allocatable, intent(out) :: holes(:)
+      integer :: k, ist
+      character(len=200) :: emsg
+      allocate (holes(size(c%bodies) + size(c%meshes)), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'holes in scene_build')
+      do k = 1, size(c%meshes)
+         holes(size(c%bodies) + k) = mesh_hole(c%meshes(k))
+      end do
+      do k = 1, size(c%bodies)
+         holes(k)%v = body_outline(c%bodies(k))
+         if (ndim == 3) holes(k)%zr = body_zrange(c%bodies(k))
+         if (ndim == 3 .and. c%bodies(k)%shape_id == shape_stl) then
+            associate (bc => c%bodies(k))
+               holes(k)%stl = .true.
+               holes(k)%mesh = bc%mesh
+               holes(k)%rmax = maxval(norm2(bc%mesh%v, dim=1))
+               holes(k)%c = [bc%x, bc%y, bc%z]
+               holes(k)%turn = body_turn(bc)
+            end associate
+         else if (ndim == 3 .and. body_tilted(c%bodies(k))) then
+            associate (bc => c%bodies(k))
+               holes(k)%box = .true.
+               holes(k)%c = [bc%x, bc%y, bc%z]
+               holes(k)%half = 0.5_rp*[bc%width, bc%height, bc%depth]
+               holes(k)%turn = body_turn(bc)
+            end associate
+         end if
+      end do
+   end subroutine scene_holes
+
+   !> The hole of an &stl solid in the water: its mesh, in a frame centred on
+   !> its bounding box (so that the test of in_body_hole's bounding sphere is tight).
+   function mesh_hole(m) result(h)
+      type(mesh_cfg), intent(in) :: m
+      type(outline_t) :: h
+      integer :: t, v
+      h%stl = .true.
+      h%c = 0.5_rp*(m%lo + m%hi)
+      h%turn = reshape([1.0_rp, 0.0_rp, 0.0_rp, 0.0_rp, 1.0_rp, 0.0_rp, 0.0_rp, 0.0_rp, 1.0_rp], [3, 3])
+      h%zr = [m%lo(3), m%hi(3)]
+      h%mesh = m%mesh
+      do t = 1, h%mesh%nt
+         do v = 1, 3
+            h%mesh%v(:, v, t) = h%mesh%v(:, v, t) - h%c
+         end do
+      end do
+      h%rmax = maxval(norm2(h%mesh%v, dim=1))
+      h%v = reshape([m%lo(1), m%lo(2), m%hi(1), m%lo(2), m%hi(1), m%hi(2), m%lo(1), m%hi(2)], [2, 4])
+   end function mesh_hole
+
+   !> The particles of &stl solid k (3D): the case's lattice points inside its
+   !> mesh and less than its layers from the surface (body_shapes' mesh_shell),
+   !> but those a &box, &polygon or &slope solid holds (which keeps its own, as
+   !> an earlier solid does). Body number: after the objects and the bodies.
+   !> Where another solid lies just beyond a face, the particle there is no surface.
+   subroutine add_mesh_solid(c, k, p)
+      type(case_cfg), intent(in) :: c
+      integer, intent(in) :: k
+      type(particles_t), intent(inout) :: p
+      real(rp) :: x0(3), dp, zdom(2), out(3)
+      real(rp), allocatable :: xs(:, :), ns(:, :)
+      integer, allocatable :: surf(:)
+      integer :: nn(3), i, m
+      dp = c%numerics%dp
+      zdom = [c%domain%zmin, c%domain%zmax]
+      call mesh_lattice(c%meshes(k), dp, x0, nn)
+      call mesh_shell(c%meshes(k)%mesh, x0, [dp, dp, dp], nn, dp, mesh_layers(c%meshes(k), c%numerics%h_over_dp), &
+                      xs, ns, surf)
+      call particles_grow(p, size(surf))
+      points: do i = 1, size(surf)
+         if (solid_covers(c%objs, 0, zdom, xs(1:nsec, i), xs(3, i))) cycle points
+         p%n = p%n + 1
+         m = p%n
+         p%x(:, m) = xs(1:ndim, i)
+         p%xb(:, m) = p%x(:, m)
+         p%kind(m) = kind_fixed
+         p%body(m) = size(c%objs) + size(c%bodies) + k
+         p%nrm(:, m) = ns(1:ndim, i)
+         p%nb(:, m) = p%nrm(:, m)
+         p%surf(m) = surf(i)
+         if (surf(i) > 0) then
+            out = xs(:, i) + dp*ns(:, i)
+            if (solid_covers(c%objs, 0, zdom, out(1:nsec), out(3))) p%surf(m) = 0
+         end if
+      end do points
+   end subroutine add_mesh_solid
 
    !> Inside a body, or closer to its outline than half a spacing dp (in 3D:
    !> and within its extent across the width, grown by as much); or among

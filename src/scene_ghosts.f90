@@ -27,7 +27,7 @@ module scene_ghosts
    use constants, only: kind_fluid, kind_filter, ndim, nsec
    use input, only: case_cfg
    use input_body, only: body_cfg
-   use geom_stl, only: stl_nearest
+   use geom_stl, only: stl_t, stl_nearest, stl_inside, stl_triangle_point
    use input_geometry, only: geom_zrange
    use options, only: role_solid, shape_stl
    use particles, only: particles_t
@@ -43,10 +43,13 @@ module scene_ghosts
    !> normal n: in the section the stretch a-b of an edge, across the width
    !> (3D) from z0 to z1 (a side face; z0 = z1 on an edge of an end face's open
    !> part); or, cap > 0, the plane z = z0 of an end face of objs(cap), where
-   !> it is open.
+   !> it is open; or (tri) a triangle of an &stl solid.
    type :: face_t
       real(rp) :: a(nsec) = 0.0_rp, b(nsec) = 0.0_rp, z0 = 0.0_rp, z1 = 0.0_rp, n(ndim) = 0.0_rp
       integer :: cap = 0
+      !> a triangle of an &stl solid's mesh (3D): its vertices v(:, 1:3)
+      logical :: tri = .false.
+      real(rp) :: v(3, 3) = 0.0_rp
    end type face_t
 
    !> Where a point of the section counts as open: across the width at z
@@ -89,7 +92,7 @@ contains
          p%gof(:, i) = 0.0_rp
          if (p%kind(i) == kind_fluid .or. p%kind(i) == kind_filter) cycle
          b = p%body(i) - nobj
-         if (b >= 1) then
+         if (b >= 1 .and. b <= size(bodies)) then
             ! a body: its own outline, in the body frame
             q = nearest_on_body(p%xb(:, i), bodies(b), c%bodies(b))
             if (norm2(q - p%xb(:, i)) < 2.0_rp*h) p%gof(:, i) = 2.0_rp*(q - p%xb(:, i))
@@ -136,6 +139,10 @@ contains
       need = 2.0_rp*h - 0.5_rp*c%numerics%dp
       deep = q + need*(x - q)/norm2(x - q)
       k = 0
+      if (ndim == 3) then
+         ! an &stl solid takes enough rows (input: check_meshes)
+         if (in_mesh(c, pad3(deep), 0) .or. in_mesh(c, pad3(x), 0)) return
+      end if
       do o = 1, size(c%objs)
          if (c%objs(o)%role_id /= role_solid) cycle
          if (in_solid(c, o, deep)) return
@@ -200,6 +207,9 @@ contains
             end do ends
          end do
       end if
+      do k = 1, size(c%meshes)
+         call mesh_faces(c, k, faces, nf)
+      end do
       faces = faces(1:nf)
    end subroutine exposed_faces
 
@@ -259,7 +269,49 @@ contains
             call open_runs(c, pr, a, d, en, nrm, zc, zc, faces, nf)
          end do edges
       end do
+      ! and the outlines of the &stl solids beyond: their cuts by the probe's plane
+      do k = 1, size(c%meshes)
+         if (pr%z <= c%meshes(k)%lo(3) .or. pr%z >= c%meshes(k)%hi(3)) cycle
+         cuts: do e = 1, c%meshes(k)%mesh%nt
+            call plane_cut(c%meshes(k)%mesh%v(:, :, e), pr%z, a, d, en, ok)
+            if (.not. ok) cycle cuts
+            call open_runs(c, pr, a, d, en, nrm, zc, zc, faces, nf)
+         end do cuts
+      end do
    end subroutine end_face
+
+   !> Where the triangle v(:, 1:3) crosses the plane z = zp (3D): the segment
+   !> from a to a + d in the section, with the triangle's outward normal in the
+   !> section en (a unit vector); ok false where it does not cross, or lies
+   !> (almost) in the plane.
+   pure subroutine plane_cut(v, zp, a, d, en, ok)
+      real(rp), intent(in) :: v(3, 3), zp
+      real(rp), intent(out) :: a(nsec), d(nsec), en(nsec)
+      logical, intent(out) :: ok
+      real(rp) :: n(3), pts(2, 2), s(3)
+      integer :: i, j, m
+      a = 0.0_rp; d = 0.0_rp; en = 0.0_rp
+      n = [(v(2, 2) - v(2, 1))*(v(3, 3) - v(3, 1)) - (v(3, 2) - v(3, 1))*(v(2, 3) - v(2, 1)), &
+           (v(3, 2) - v(3, 1))*(v(1, 3) - v(1, 1)) - (v(1, 2) - v(1, 1))*(v(3, 3) - v(3, 1)), &
+           (v(1, 2) - v(1, 1))*(v(2, 3) - v(2, 1)) - (v(2, 2) - v(2, 1))*(v(1, 3) - v(1, 1))]
+      ok = norm2(n(1:2)) > 1.0e-9_rp*norm2(n)
+      if (.not. ok) return
+      s = v(3, :) - zp
+      m = 0
+      do i = 1, 3
+         j = modulo(i, 3) + 1
+         if ((s(i) < 0.0_rp .neqv. s(j) < 0.0_rp) .and. m < 2) then
+            m = m + 1
+            pts(:, m) = v(1:2, i) + s(i)/(s(i) - s(j))*(v(1:2, j) - v(1:2, i))
+         end if
+      end do
+      ok = m == 2
+      if (.not. ok) return
+      a = pts(:, 1)
+      d = pts(:, 2) - pts(:, 1)
+      en = n(1:2)/norm2(n(1:2))
+      ok = norm2(d) > 0.0_rp
+   end subroutine plane_cut
 
    !> Edge e of the outline v: from a to a + d, its outward unit normal en;
    !> ok false for an edge of no length.
@@ -395,7 +447,61 @@ contains
          if (.not. spans(c, o, pr%z)) cycle solids
          if (point_in_polygon(x, c%objs(o)%v)) op = .false.
       end do solids
+      if (op .and. ndim == 3) op = .not. in_mesh(c, [x, pr%z], 0)
    end function open_point
+
+   !> Whether the point x (3D) lies inside an &stl solid's mesh other than
+   !> mesh skip.
+   logical function in_mesh(c, x, skip) result(inside)
+      type(case_cfg), intent(in) :: c
+      real(rp), intent(in) :: x(3)
+      integer, intent(in) :: skip
+      integer :: k
+      inside = .false.
+      do k = 1, size(c%meshes)
+         if (k == skip) cycle
+         if (any(x < c%meshes(k)%lo) .or. any(x > c%meshes(k)%hi)) cycle
+         inside = stl_inside(c%meshes(k)%mesh, x)
+         if (inside) return
+      end do
+   end function in_mesh
+
+   !> The triangles of &stl solid k with free space just outside their
+   !> centroid (inside the domain, in no other solid: a box, a polygon, a slope
+   !> across that z, or another mesh), appended to faces(1:nf). A triangle
+   !> counts whole: a mesh should meet the other solids at their faces.
+   subroutine mesh_faces(c, k, faces, nf)
+      type(case_cfg), intent(in) :: c
+      integer, intent(in) :: k
+      type(face_t), allocatable, intent(inout) :: faces(:)
+      integer, intent(inout) :: nf
+      integer :: t, o
+      real(rp) :: y(3), n(3), x(3), lo(3), hi(3)
+      logical :: on
+      lo = [c%domain%xmin, c%domain%ymin, c%domain%zmin]
+      hi = [c%domain%xmax, c%domain%ymax, c%domain%zmax]
+      associate (m => c%meshes(k)%mesh)
+         triangles: do t = 1, m%nt
+            x = sum(m%v(:, :, t), dim=2)/3.0_rp
+            call stl_triangle_point(m%v(:, :, t), x, y, n)
+            x = x + 1.0e-3_rp*c%numerics%dp*n
+            on = norm2(n) > 0.0_rp .and. all(x > lo) .and. all(x < hi)
+            if (on) on = .not. in_mesh(c, x, k)
+            solids: do o = 1, size(c%objs)
+               if (.not. on) cycle triangles
+               if (c%objs(o)%role_id /= role_solid) cycle solids
+               if (in_solid(c, o, x(1:ndim))) on = .false.
+            end do solids
+            if (.not. on) cycle triangles
+            call grow(faces, nf)
+            nf = nf + 1
+            faces(nf)%tri = .true.
+            faces(nf)%v = m%v(:, :, t)
+            faces(nf)%n = n(1:ndim)
+         end do triangles
+      end associate
+   end subroutine mesh_faces
+
 
    !> Where open_at changes between ta and tb along the edge (it differs at the two).
    real(rp) function edge_of_run(c, pr, a, d, tdir, ta, tb) result(t)
@@ -577,14 +683,17 @@ contains
       real(rp), intent(in) :: x(ndim), u(ndim)
       type(face_t), intent(in) :: faces(:)
       logical, intent(out) :: found
-      real(rp) :: q(ndim), y(ndim), dmin, dd
+      real(rp) :: q(ndim), y(ndim), dmin, dd, y3(3), n3(3)
       integer :: k
       q = x
       dmin = huge(1.0_rp)
       found = .false.
       do k = 1, size(faces)
          if (dot_product(faces(k)%n, u) <= 0.0_rp .and. dot_product(u, u) > 0.0_rp) cycle
-         if (faces(k)%cap > 0) then
+         if (faces(k)%tri) then
+            call stl_triangle_point(faces(k)%v, pad3(x), y3, n3)
+            y = y3(1:ndim)
+         else if (faces(k)%cap > 0) then
             ! straight across to the plane of an end face, where it is open
             if (.not. open_point(c, probe_t(faces(k)%z0 + faces(k)%n(ndim)*1.0e-3_rp*c%numerics%dp, faces(k)%cap), &
                                  x(1:nsec))) cycle
@@ -602,6 +711,14 @@ contains
          end if
       end do
    end function nearest_on_faces
+
+   !> A point of ndim components as three.
+   pure function pad3(x) result(y)
+      real(rp), intent(in) :: x(ndim)
+      real(rp) :: y(3)
+      y = 0.0_rp
+      y(1:ndim) = x
+   end function pad3
 
    !> The nearest point to x (in the body frame) of a body's surface: its
    !> outline; in 3D the faces of its box, from the box's own frame (of faces
