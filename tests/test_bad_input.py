@@ -111,6 +111,8 @@ CASES: dict[str, Bad] = {
     "gamma_zero": Bad(edit("gamma = 7.0", "gamma = 0.0"), "fluid", "gamma", range=(1.0, 10.0)),
     "dp_malformed": Bad(edit("dp = 0.02", "dp = 'abc'"), "numerics", "dp"),
     "run_twice": Bad(BASE + "&run case_name = 'again' /\n", "run", words=("more than once",)),
+    # an STL solid is for the 3D build
+    "stl_in_2d": Bad(BASE + "&stl stl_file = 'wall.stl' /\n", "stl #1", "stl_file", words=("3D build",)),
     # a prescribed body's oscillation needs period in (0, 1e4] s
     "body_amplitude_without_period": Bad(BASE + BODY.format("motion = 'prescribed', amplitude_x = 0.01"),
                                          "body #1", "period", range=(0.0, 1.0e4), words=("amplitude",)),
