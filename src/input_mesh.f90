@@ -81,6 +81,7 @@ contains
                "the mesh of '"//path//"' is "//real_str(minval(meshes(k)%hi - meshes(k)%lo))// &
                ' m across at its thinnest: at least 2 dp = '//real_str(2.0_rp*dp)//' m is needed (stl_scale: '// &
                'its unit in metres)')
+            call check_flat_faces(file, g, meshes(k), dp)
             if (.not. lattice_meets(meshes(k), dp)) call input_error(file, g, 'stl_file', 'no point of the '// &
                "lattice dp apart falls inside the mesh of '"//path//"': it is too thin for dp = "//real_str(dp)//' m')
          end associate
@@ -120,6 +121,31 @@ contains
       x0 = i0*dp
       nn = max(0, floor(m%hi/dp - 0.5_rp) - i0 + 1)
    end subroutine mesh_lattice
+
+   !> A face across an axis (its three vertices at one coordinate) must not lie
+   !> on a plane of lattice points (half a spacing off whole spacings): a row of
+   !> wall particles on the face itself would have no mirror across it, and the
+   !> water one spacing out would be two rows from the solid's next ones.
+   subroutine check_flat_faces(file, g, m, dp)
+      character(len=*), intent(in) :: file, g
+      type(mesh_cfg), intent(in) :: m
+      real(rp), intent(in) :: dp
+      character(len=1), parameter :: axis(3) = ['x', 'y', 'z']
+      integer :: t, a
+      real(rp) :: c, off
+      do t = 1, m%mesh%nt
+         do a = 1, 3
+            c = m%mesh%v(a, 1, t)
+            if (maxval(abs(m%mesh%v(a, 2:3, t) - c)) > 1.0e-9_rp*dp) cycle
+            off = c/dp - 0.5_rp
+            if (abs(off - anint(off)) > 1.0e-6_rp) cycle
+            call input_error(file, g, 'x, y, z', 'a flat face of the mesh lies at '//axis(a)//' = '//real_str(c)// &
+               ', on a plane of the lattice (whose points are half a spacing off whole spacings of dp = '// &
+               real_str(dp)//' m): its wall particles would sit on the face; move the mesh by dp/2 along '// &
+               axis(a)//' (x, y, z) or draw its faces at whole spacings')
+         end do
+      end do
+   end subroutine check_flat_faces
 
    logical function lattice_meets(m, dp) result(meets)
       type(mesh_cfg), intent(in) :: m

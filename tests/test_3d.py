@@ -1386,6 +1386,7 @@ def test_3d_water_rests_around_an_immersed_stl_cube(tmp_path: Path, mbsph3d: Pat
     ("&stl stl_file = 'none.stl' /", "stl_file", ("none.stl",)),
     ("&stl stl_file = 'block.stl', layers = 1 /", "layers", ("'mdbc' needs", "at least 3 rows")),
     ("&stl stl_file = 'block.stl', stl_scale = 0.0 /", "stl_scale", ("allowed range",)),
+    ("&stl stl_file = 'block.stl', y = 0.0025 /", "x, y, z", ("flat face", "move the mesh by dp/2 along y")),
 ])
 def test_3d_refuses_a_bad_stl_solid(text: str, var: str, words: tuple[str, ...], tmp_path: Path,
                                     mbsph3d: Path) -> None:
