@@ -134,16 +134,16 @@ contains
       integer :: t, a
       real(rp) :: c, off
       do t = 1, m%mesh%nt
-         do a = 1, 3
+         axes: do a = 1, 3
             c = m%mesh%v(a, 1, t)
-            if (maxval(abs(m%mesh%v(a, 2:3, t) - c)) > 1.0e-9_rp*dp) cycle
+            if (maxval(abs(m%mesh%v(a, 2:3, t) - c)) > 1.0e-9_rp*dp) cycle axes
             off = c/dp - 0.5_rp
-            if (abs(off - anint(off)) > 1.0e-6_rp) cycle
+            if (abs(off - anint(off)) > 1.0e-6_rp) cycle axes
             call input_error(file, g, 'x, y, z', 'a flat face of the mesh lies at '//axis(a)//' = '//real_str(c)// &
                ', on a plane of the lattice (whose points are half a spacing off whole spacings of dp = '// &
                real_str(dp)//' m): its wall particles would sit on the face; move the mesh by dp/2 along '// &
                axis(a)//' (x, y, z) or draw its faces at whole spacings')
-         end do
+         end do axes
       end do
    end subroutine check_flat_faces
 
