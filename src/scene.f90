@@ -433,7 +433,7 @@ contains
    end subroutine scene_holes
 
    !> The hole of an &stl solid in the water: its mesh, in a frame centred on
-   !> its bounding box (so that the test of in_body_hole's bounding sphere is tight).
+   !> its bounding box (so that in_body_hole's bounding sphere is a tight first test).
    function mesh_hole(m) result(h)
       type(mesh_cfg), intent(in) :: m
       type(outline_t) :: h
@@ -449,7 +449,6 @@ contains
          end do
       end do
       h%rmax = maxval(norm2(h%mesh%v, dim=1))
-      h%v = reshape([m%lo(1), m%lo(2), m%hi(1), m%lo(2), m%hi(1), m%hi(2), m%lo(1), m%hi(2)], [2, 4])
    end function mesh_hole
 
    !> The particles of &stl solid k (3D): the case's lattice points inside its
