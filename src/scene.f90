@@ -25,7 +25,8 @@ module scene
    use porous, only: porous_t, porous_point, porous_lookup, n_por
    use scene_ghosts, only: scene_ghost_offsets
    use bc_motion, only: wall_motion_t
-   use errors, only: fatal, alloc_check
+   use errors, only: fatal, alloc_check, input_error
+   use input_check, only: int_str
    implicit none
    private
    public :: scene_build, scene_bodies, scene_no_fluid, scene_estimate, scene_params, scene_gauges, scene_damping, &
@@ -83,6 +84,7 @@ contains
       end do
       call add_pore_water(c, dp, zdom, p, holes, por, cell)
       call scene_bodies(c, bodies, p)
+      call bodies_clear_of_meshes(c, p)
       ! the bodies' particles fill dp^d each as the open water's (their mass is their share of the water's)
       cell = [cell, (dp**ndim, i = size(cell) + 1, p%n)]
       nf = count(p%kind(1:p%n) == kind_fluid)
@@ -487,6 +489,28 @@ contains
          end if
       end do points
    end subroutine add_mesh_solid
+
+   !> No body starts inside an &stl solid (bodies may touch walls, not cut into
+   !> them): none of its particles lies inside the mesh.
+   subroutine bodies_clear_of_meshes(c, p)
+      type(case_cfg), intent(in) :: c
+      type(particles_t), intent(in) :: p
+      integer :: i, k, b
+      real(rp) :: x(3)
+      do k = 1, size(c%meshes)
+         associate (m => c%meshes(k))
+            do i = 1, p%n
+               b = p%body(i) - size(c%objs)
+               if (b < 1 .or. b > size(c%bodies)) cycle
+               x = 0.0_rp
+               x(1:ndim) = p%x(:, i)
+               if (any(x < m%lo) .or. any(x > m%hi)) cycle
+               if (stl_inside(m%mesh, x)) call input_error(c%file, 'body #'//int_str(b), '', &
+                  'the body overlaps the solid &stl #'//int_str(k)//' (bodies may touch walls, not cut into them)')
+            end do
+         end associate
+      end do
+   end subroutine bodies_clear_of_meshes
 
    !> Inside a body, or closer to its outline than half a spacing dp (in 3D:
    !> and within its extent across the width, grown by as much); or among

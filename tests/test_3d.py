@@ -1435,6 +1435,16 @@ def test_3d_refuses_a_bad_stl_solid(text: str, var: str, words: tuple[str, ...],
     assert not out.exists()
 
 
+def test_3d_refuses_a_body_inside_an_stl_solid(tmp_path: Path, mbsph3d: Path) -> None:
+    write_stl(tmp_path / "block.stl", box_mesh([0.07, 0.0, 0.0], [0.1, 0.04, 0.03]))
+    text = STL_TANK.format(block="&stl stl_file = 'block.stl' /\n&body shape = 'box', x = 0.085, y = 0.02, z = 0.015, "
+                                 "width = 0.01, height = 0.01, depth = 0.01, density = 2400.0 /")
+    proc, out = run_case(text, tmp_path, binary=mbsph3d)
+    assert proc.returncode == EXIT_INPUT, describe(proc)
+    assert "&body #1: the body overlaps the solid &stl #1" in proc.stderr, proc.stderr
+    assert not out.exists()
+
+
 SPIN = """&run case_name = 'spin3d', t_end = 0.05, dt_out = 0.05, energy_interval = 0.001, out_dir = 'OUT' /
 &domain xmin = -0.2, xmax = 0.2, ymin = -0.05, ymax = 0.2, zmin = -0.1, zmax = 0.1 /
 &numerics dp = 0.01 /
