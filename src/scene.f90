@@ -499,15 +499,15 @@ contains
       real(rp) :: x(3)
       do k = 1, size(c%meshes)
          associate (m => c%meshes(k))
-            do i = 1, p%n
+            particles: do i = 1, p%n
                b = p%body(i) - size(c%objs)
-               if (b < 1 .or. b > size(c%bodies)) cycle
+               if (b < 1 .or. b > size(c%bodies)) cycle particles
                x = 0.0_rp
                x(1:ndim) = p%x(:, i)
-               if (any(x < m%lo) .or. any(x > m%hi)) cycle
+               if (any(x < m%lo) .or. any(x > m%hi)) cycle particles
                if (stl_inside(m%mesh, x)) call input_error(c%file, 'body #'//int_str(b), '', &
                   'the body overlaps the solid &stl #'//int_str(k)//' (bodies may touch walls, not cut into them)')
-            end do
+            end do particles
          end associate
       end do
    end subroutine bodies_clear_of_meshes
