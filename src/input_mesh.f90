@@ -123,9 +123,9 @@ contains
    end subroutine mesh_lattice
 
    !> A face across an axis (its three vertices at one coordinate) must not lie
-   !> on a plane of lattice points (half a spacing off whole spacings): a row of
-   !> wall particles on the face itself would have no mirror across it, and the
-   !> water one spacing out would be two rows from the solid's next ones.
+   !> on, or within 0.1 dp of, a plane of lattice points (half a spacing off
+   !> whole spacings): a row of wall particles on the face (or nearly) would have
+   !> no mirror across it (or one nearly at itself).
    subroutine check_flat_faces(file, g, m, dp)
       character(len=*), intent(in) :: file, g
       type(mesh_cfg), intent(in) :: m
@@ -138,9 +138,9 @@ contains
             c = m%mesh%v(a, 1, t)
             if (maxval(abs(m%mesh%v(a, 2:3, t) - c)) > 1.0e-9_rp*dp) cycle axes
             off = c/dp - 0.5_rp
-            if (abs(off - anint(off)) > 1.0e-6_rp) cycle axes
+            if (abs(off - anint(off)) >= 0.1_rp) cycle axes
             call input_error(file, g, 'x, y, z', 'a flat face of the mesh lies at '//axis(a)//' = '//real_str(c)// &
-               ', on a plane of the lattice (whose points are half a spacing off whole spacings of dp = '// &
+               ', on (within 0.1 dp of) a plane of the lattice (whose points are half a spacing off whole spacings of dp = '// &
                real_str(dp)//' m): its wall particles would sit on the face; move the mesh by dp/2 along '// &
                axis(a)//' (x, y, z) or draw its faces at whole spacings')
          end do axes

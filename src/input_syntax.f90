@@ -29,7 +29,7 @@ module input_syntax
       'box%amplitude', 'polygon%amplitude', 'polygon%x', 'polygon%y', 'body%vx', 'body%vy', 'porous%x', 'porous%y']
 
    !> The groups a case may hold several of, named 'box #2' in messages as their readers do.
-   character(len=*), parameter :: repeatable(*) = [character(len=8) :: 'box', 'polygon', 'slope', 'body', 'gauge', 'porous']
+   character(len=*), parameter :: repeatable(*) = [character(len=8) :: 'box', 'polygon', 'slope', 'stl', 'body', 'gauge', 'porous']
 
    character(len=*), parameter :: name_chars = 'abcdefghijklmnopqrstuvwxyz0123456789_'
 

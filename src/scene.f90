@@ -455,8 +455,8 @@ contains
 
    !> The particles of &stl solid k (3D): the case's lattice points inside its
    !> mesh and less than its layers from the surface (body_shapes' mesh_shell),
-   !> but those a &box, &polygon or &slope solid holds (which keeps its own, as
-   !> an earlier solid does). Body number: after the objects and the bodies.
+   !> but those a &box, &polygon or &slope solid or an earlier &stl solid holds
+   !> (which keeps its own, as an earlier solid does). Body number: after the objects and the bodies.
    !> Where another solid lies just beyond a face, the particle there is no surface.
    subroutine add_mesh_solid(c, k, p)
       type(case_cfg), intent(in) :: c
@@ -474,6 +474,7 @@ contains
       call particles_grow(p, size(surf))
       points: do i = 1, size(surf)
          if (solid_covers(c%objs, 0, zdom, xs(1:nsec, i), xs(3, i))) cycle points
+         if (in_earlier_mesh(xs(:, i))) cycle points
          p%n = p%n + 1
          m = p%n
          p%x(:, m) = xs(1:ndim, i)
@@ -485,9 +486,22 @@ contains
          p%surf(m) = surf(i)
          if (surf(i) > 0) then
             out = xs(:, i) + dp*ns(:, i)
-            if (solid_covers(c%objs, 0, zdom, out(1:nsec), out(3))) p%surf(m) = 0
+            if (solid_covers(c%objs, 0, zdom, out(1:nsec), out(3)) .or. in_earlier_mesh(out)) p%surf(m) = 0
          end if
       end do points
+   contains
+      !> Whether x lies in one of the &stl solids before k (where meshes overlap,
+      !> the earlier keeps its particles, as among the other solids).
+      logical function in_earlier_mesh(x) result(inside)
+         real(rp), intent(in) :: x(3)
+         integer :: e
+         inside = .false.
+         do e = 1, k - 1
+            if (any(x < c%meshes(e)%lo) .or. any(x > c%meshes(e)%hi)) cycle
+            inside = stl_inside(c%meshes(e)%mesh, x)
+            if (inside) return
+         end do
+      end function in_earlier_mesh
    end subroutine add_mesh_solid
 
    !> No body starts inside an &stl solid (bodies may touch walls, not cut into

@@ -135,25 +135,31 @@ contains
       type(case_cfg), intent(in) :: c
       real(rp), intent(in) :: x(ndim), q(ndim), h
       real(rp) :: deep(ndim), need
-      integer :: o, k
+      integer :: o, k, m
+      character(len=:), allocatable :: which
       need = 2.0_rp*h - 0.5_rp*c%numerics%dp
       deep = q + need*(x - q)/norm2(x - q)
       k = 0
+      m = 0
       if (ndim == 3) then
-         ! an &stl solid takes enough rows (input: check_meshes)
-         if (in_mesh(c, pad3(deep), 0) .or. in_mesh(c, pad3(x), 0)) return
+         if (in_mesh(c, pad3(deep), 0)) return
+         m = mesh_holding(c, pad3(x))
       end if
       do o = 1, size(c%objs)
          if (c%objs(o)%role_id /= role_solid) cycle
          if (in_solid(c, o, deep)) return
          if (k == 0 .and. in_solid(c, o, x)) k = o
       end do
-      if (k == 0) k = 1
+      if (m > 0 .and. k == 0) then
+         which = '&stl #'//int_str(m)
+      else
+         k = max(k, 1)
+         which = '&'//trim(c%objs(k)%group)//' #'//int_str(c%objs(k)%index)
+      end if
       call input_error(c%file, 'numerics', 'boundary', "'mdbc' needs the solids at least 2h - dp/2 = "// &
                        real_str(need)//' m thick behind every face the water can touch ('// &
                        int_str(ceiling(2.0_rp*h/c%numerics%dp - 1.0e-9_rp))//' rows); behind the face at '// &
-                       point_str(q)//' &'//trim(c%objs(k)%group)//' #'// &
-                       int_str(c%objs(k)%index)//' is thinner: make it thicker (with the &domain room '// &
+                       point_str(q)//' '//which//' is thinner: make it thicker (with the &domain room '// &
                        "behind it) or use 'dynamic'")
    end subroutine check_thick
 
@@ -191,6 +197,10 @@ contains
             if (c%objs(k)%role_id /= role_solid) cycle
             zr = geom_zrange(c%objs(k), zdom)
             zb = [zb, max(min(zr, zdom(2)), zdom(1))]
+         end do
+         ! and of the meshes (exact for a mesh whose section is the same across its width)
+         do k = 1, size(c%meshes)
+            zb = [zb, max(min([c%meshes(k)%lo(3), c%meshes(k)%hi(3)], zdom(2)), zdom(1))]
          end do
          call sort_unique(zb, 1.0e-9_rp*c%numerics%dp)
          do m = 1, size(zb) - 1
@@ -465,6 +475,17 @@ contains
          if (inside) return
       end do
    end function in_mesh
+
+   !> The first &stl solid whose mesh holds the point x (3D); 0 for none.
+   integer function mesh_holding(c, x) result(k)
+      type(case_cfg), intent(in) :: c
+      real(rp), intent(in) :: x(3)
+      do k = 1, size(c%meshes)
+         if (any(x < c%meshes(k)%lo) .or. any(x > c%meshes(k)%hi)) cycle
+         if (stl_inside(c%meshes(k)%mesh, x)) return
+      end do
+      k = 0
+   end function mesh_holding
 
    !> The triangles of &stl solid k with free space just outside their
    !> centroid (inside the domain, in no other solid: a box, a polygon, a slope

@@ -3,7 +3,7 @@ icosphere held in a tank of water, run with build/mbsph3d, and how near the wate
 the mesh keeps the hydrostatic pressure.
 
 The tank is 0.2 m long and 0.1 m wide, the water `--depth` deep, dp = 0.01 m; the solid
-(a cube of side 2r or a sphere of radius r = 0.03 m, 1280 triangles) is centred at mid
+(a cube of side 2r or a sphere of radius r, `--radius`, 0.03 m by default; 1280 triangles) is centred at mid
 length and mid width, `--centre` above the floor. Over the second half of the run it
 prints, as fractions of rho g depth and averaged over the outputs:
 
@@ -11,13 +11,14 @@ prints, as fractions of rho g depth and averaged over the outputs:
          water far from it at the same height (a straight line fitted to the water more
          than 3 dp beyond the solid's footprint and 2 dp from the walls);
   bed    the floor's pressure under the solid less the floor's far from it;
+  (cube) the first difference for the water next to each face alone;
 
 the largest speed of the water over the same outputs, in m/s (the same tank without the
 solid: 0.02 m/s at 0.15 m depth); and, over the whole run, the least distance of a water
 particle from the mesh in dp (< 0: inside it).
 
     .venv/bin/python tools/stl_still_water.py OUT_DIR --shape cube|sphere
-        [--depth 0.1] [--centre 0.05] [--t-end 1.0] [--numerics "kernel_correction = 'gradient'"]
+        [--depth 0.1] [--centre 0.05] [--radius 0.03] [--t-end 1.0] [--numerics "kernel_correction = 'gradient'"]
         [--binary build/mbsph3d]
 """
 from __future__ import annotations
@@ -88,6 +89,7 @@ def main() -> None:
     ap.add_argument("--shape", choices=("cube", "sphere"), required=True)
     ap.add_argument("--depth", type=float, default=0.1)
     ap.add_argument("--centre", type=float, default=0.05, help="the solid's centre above the floor [m]")
+    ap.add_argument("--radius", type=float, default=R, help="half the cube's side, or the sphere's radius [m]")
     ap.add_argument("--t-end", type=float, default=1.0)
     ap.add_argument("--numerics", default="", help="more &numerics settings, e.g. \"kernel_correction = 'gradient'\"")
     ap.add_argument("--binary", type=Path, default=ROOT / "build" / "mbsph3d")
@@ -96,7 +98,8 @@ def main() -> None:
     work = out.parent
     work.mkdir(parents=True, exist_ok=True)
     c = np.array([0.1, a.centre, 0.05])
-    tri = cube_triangles(2 * R) if a.shape == "cube" else sphere_triangles(R)
+    r = a.radius
+    tri = cube_triangles(2 * r) if a.shape == "cube" else sphere_triangles(r)
     write_binary_stl(work / f"{out.name}.stl", tri + c)
     case = work / f"{out.name}.nml"
     case.write_text(case_text(out, a.depth, a.t_end, a.numerics).replace("solid.stl", f"{out.name}.stl"))
@@ -107,6 +110,7 @@ def main() -> None:
     rgh = 1000.0 * 9.81 * a.depth
     h = DP * np.sqrt(2.0)
     near, bed, gap, vmax = [], [], np.inf, 0.0
+    per_face: list[list[float]] = [[] for _ in range(6)]
     for path in sorted(out.glob("snap_*.h5")):
         with h5py.File(path, "r") as f:
             t = float(f.attrs["time"])
@@ -114,27 +118,36 @@ def main() -> None:
         fl = kind == 1
         x, p, v = x[fl], p[fl], v[fl]
         if a.shape == "cube":
-            outside = np.linalg.norm(np.maximum(np.abs(x - c) - R, 0.0), axis=1)
-            dist = np.where(outside > 0.0, outside, -np.min(R - np.abs(x - c), axis=1))
+            outside = np.linalg.norm(np.maximum(np.abs(x - c) - r, 0.0), axis=1)
+            dist = np.where(outside > 0.0, outside, -np.min(r - np.abs(x - c), axis=1))
             rad = np.max(np.abs(x[:, [0, 2]] - c[[0, 2]]), axis=1)
         else:
-            dist = np.linalg.norm(x - c, axis=1) - R
+            dist = np.linalg.norm(x - c, axis=1) - r
             rad = np.hypot(x[:, 0] - c[0], x[:, 2] - c[2])
         gap = min(gap, float(dist.min()))
         if t < 0.5 * a.t_end:
             continue
         vmax = max(vmax, float(np.linalg.norm(v, axis=1).max()))
         walls = np.min([x[:, 0], 0.2 - x[:, 0], x[:, 2], 0.1 - x[:, 2]], axis=0)
-        far = (rad > R + 3 * DP) & (x[:, 1] < a.depth - 3 * DP) & (walls > 2 * DP)
+        far = (rad > r + 3 * DP) & (x[:, 1] < a.depth - 3 * DP) & (walls > 2 * DP)
         ref = np.polyval(np.polyfit(x[far, 1], p[far], 1), x[:, 1])
         m = (dist > 0.0) & (dist < 2 * h)
         near.append(float(np.mean(p[m] - ref[m])) / rgh)
-        under = (x[:, 1] < DP) & (rad < R)
+        if a.shape == "cube":
+            # each face's water: the axis along which it lies farthest out, and the side
+            rel = x - c
+            ax = np.argmax(np.abs(rel), axis=1)
+            face = 2 * ax + (rel[np.arange(len(x)), ax] > 0.0)
+            for q in range(6):
+                per_face[q].append(float(np.mean((p - ref)[m & (face == q)])) / rgh)
+        under = (x[:, 1] < DP) & (rad < r)
         if under.any():
             bed.append((float(np.mean(p[under])) - float(np.mean(p[(x[:, 1] < DP) & far]))) / rgh)
     print(f"{a.shape}, depth {a.depth} m, centre {a.centre} m above the floor, {len(near)} outputs from "
           f"{0.5 * a.t_end:g} s: near {np.mean(near):+.2%}, bed {np.mean(bed) if bed else float('nan'):+.2%} "
           f"of rho g depth; largest speed {vmax:.3f} m/s; least distance from the mesh {gap / DP:+.3f} dp")
+    if a.shape == "cube":
+        print("near each face (-x, +x, -y, +y, -z, +z): " + ", ".join(f"{np.mean(f):+.2%}" for f in per_face))
 
 
 if __name__ == "__main__":
