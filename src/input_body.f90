@@ -4,7 +4,7 @@ module input_body
    use kinds, only: rp
    use constants, only: name_len, msg_len, path_len, pi, ndim
    use geom_stl, only: stl_t, stl_read, stl_props, stl_bounds, stl_inside
-   use input_check, only: open_case, read_failed, read_failed_open, check_real, check_int, group_count, &
+   use input_check, only: case_path, open_case, read_failed, read_failed_open, check_real, check_int, group_count, &
                           int_str, real_str
    use errors, only: input_error, alloc_check
    use geom, only: polygon_area, polygon_self_intersects
@@ -226,14 +226,15 @@ contains
       type(body_cfg), intent(inout) :: c
       character(len=:), allocatable :: path
       real(rp) :: vol, cen(3), inertia(3, 3), lo(3), hi(3)
-      integer :: t, k, slash
+      integer :: t, k
       if (ndim == 2) call input_error(file, g, 'shape', 'an STL body is for the 3D build (build/mbsph3d)')
       if (len_trim(c%file) == 0) call input_error(file, g, 'stl_file', "shape = 'stl' needs the mesh's file")
       call check_real(file, g, 'stl_scale', c%scale, 1.0e-9_rp, 1.0e9_rp)
-      ! a relative path from the case file's folder
-      path = trim(c%file)
-      slash = index(file, '/', back=.true.)
-      if (path(1:1) /= '/' .and. slash > 0) path = file(1:slash)//path
+      ! a relative path from the case file's folder, kept absolute (OUT/case.nml names the same file)
+      path = case_path(file, c%file)
+      if (len(path) > len(c%file)) call input_error(file, g, 'stl_file', 'the path '//path//' is longer than '// &
+                                                     int_str(len(c%file))//' characters')
+      c%file = path
       call stl_read(path, c%scale, file, g, 'stl_file', c%mesh)
       call stl_props(c%mesh, vol, cen, inertia)
       do t = 1, c%mesh%nt

@@ -2,6 +2,7 @@
 !> misspelt groups, turn namelist read errors into messages that name the
 !> file, group and variable, and check values against their allowed range.
 module input_check
+   use, intrinsic :: iso_c_binding, only: c_char, c_size_t, c_ptr, c_null_char, c_associated
    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use kinds, only: rp
    use constants, only: msg_len
@@ -10,7 +11,7 @@ module input_check
    use geom, only: polygon_area, polygon_self_intersects
    implicit none
    private
-   public :: open_case, scan_groups, group_count, var_given, read_failed, read_failed_open, check_real, check_int, &
+   public :: case_path, open_case, scan_groups, group_count, var_given, read_failed, read_failed_open, check_real, check_int, &
              checked_outline, &
              lower, real_str, int_str, approx_str
 
@@ -19,6 +20,49 @@ module input_check
       'gauge', 'damping', 'breakwater', 'armour', 'porous']
 
 contains
+
+   !> The file a case names (an STL mesh), as an absolute path: a relative path
+   !> is taken from the case file's folder, and made absolute from the working
+   !> directory, so that the effective namelist (OUT/case.nml) names the same
+   !> file wherever it is run from (relative as given if the working directory
+   !> cannot be read).
+   function case_path(file, name) result(path)
+      character(len=*), intent(in) :: file, name
+      character(len=:), allocatable :: path
+      integer, parameter :: cwd_len = 4096     ! PATH_MAX of Linux
+      interface
+         function c_getcwd(buf, size) bind(C, name='getcwd') result(res)
+            import :: c_char, c_size_t, c_ptr, cwd_len
+            implicit none
+            character(kind=c_char), intent(out) :: buf(cwd_len)
+            integer(c_size_t), value :: size
+            type(c_ptr) :: res
+         end function c_getcwd
+      end interface
+      character(kind=c_char) :: buf(cwd_len)
+      integer :: slash, n
+      path = trim(name)
+      if (len(path) == 0) return
+      if (path(1:1) == '/') return
+      slash = index(file, '/', back=.true.)
+      if (slash > 0) path = file(1:slash)//path
+      if (path(1:1) == '/') return
+      if (.not. c_associated(c_getcwd(buf, int(size(buf), c_size_t)))) return
+      n = 0
+      do while (n < size(buf))
+         if (buf(n + 1) == c_null_char) exit
+         n = n + 1
+      end do
+      if (n == 0 .or. n == size(buf)) return
+      block
+         character(len=n) :: cwd
+         integer :: i
+         do i = 1, n
+            cwd(i:i) = buf(i)
+         end do
+         path = cwd//'/'//path
+      end block
+   end function case_path
 
    function real_str(x) result(s)
       real(rp), intent(in) :: x

@@ -7,7 +7,7 @@
 module input_mesh
    use kinds, only: rp
    use constants, only: msg_len, path_len, ndim
-   use input_check, only: open_case, read_failed_open, check_int, check_real, group_count, int_str, real_str
+   use input_check, only: case_path, open_case, read_failed_open, check_int, check_real, group_count, int_str, real_str
    use geom_stl, only: stl_t, stl_read, stl_bounds, stl_inside
    use errors, only: input_error, alloc_check
    implicit none
@@ -41,7 +41,7 @@ contains
       character(len=*), intent(in) :: file
       real(rp), intent(in) :: dp
       type(mesh_cfg), allocatable, intent(out) :: meshes(:)
-      integer :: n, k, u, ios, ist, t, v, slash
+      integer :: n, k, u, ios, ist, t, v
       character(len=msg_len) :: msg
       character(len=200) :: emsg
       character(len=:), allocatable :: g, path
@@ -66,9 +66,10 @@ contains
          meshes(k)%scale = stl_scale
          meshes(k)%shift = [x, y, z]
          meshes(k)%layers = layers
-         path = trim(stl_file)
-         slash = index(file, '/', back=.true.)
-         if (path(1:1) /= '/' .and. slash > 0) path = file(1:slash)//path
+         path = case_path(file, stl_file)
+         if (len(path) > len(stl_file)) call input_error(file, g, 'stl_file', 'the path '//path//' is longer than '// &
+                                                          int_str(len(stl_file))//' characters')
+         meshes(k)%file = path
          call stl_read(path, stl_scale, file, g, 'stl_file', meshes(k)%mesh)
          associate (m => meshes(k)%mesh)
             do t = 1, m%nt

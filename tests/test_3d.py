@@ -1478,6 +1478,25 @@ def test_3d_refuses_a_body_inside_an_stl_solid(tmp_path: Path, mbsph3d: Path) ->
     assert not out.exists()
 
 
+def test_3d_case_nml_repeats_an_stl_run(tmp_path: Path, mbsph3d: Path) -> None:
+    # the effective namelist names the meshes by absolute paths, so OUT/case.nml run from
+    # another folder (without the STL files beside it) repeats the run: the same output
+    write_stl(tmp_path / "block.stl", box_mesh([0.07, 0.0, 0.0], [0.1, 0.04, 0.03]))
+    write_stl(tmp_path / "cube.stl", cube_mesh(0.015))
+    text = STL_TANK.format(block="&stl stl_file = 'block.stl' /\n&body shape = 'stl', stl_file = 'cube.stl', "
+                                 "x = 0.035, y = 0.08, z = 0.015, density = 500.0 /").replace("t_end = 0.05", "t_end = 0.01")
+    proc, out = run_case(text, tmp_path, binary=mbsph3d)
+    assert_ok(proc)
+    effective = (out / "case.nml").read_text()
+    assert str(tmp_path / "block.stl") in effective and str(tmp_path / "cube.stl") in effective
+    (tmp_path / "again").mkdir()
+    proc, again = run_case(effective, tmp_path / "again", binary=mbsph3d)
+    assert_ok(proc)
+    from conftest import read_datasets
+    a, b = (read_datasets(snapshots(d)[-1]) for d in (out, again))
+    assert np.array_equal(a["position"], b["position"]) and np.array_equal(a["pressure"], b["pressure"])
+
+
 SPIN = """&run case_name = 'spin3d', t_end = 0.05, dt_out = 0.05, energy_interval = 0.001, out_dir = 'OUT' /
 &domain xmin = -0.2, xmax = 0.2, ymin = -0.05, ymax = 0.2, zmin = -0.1, zmax = 0.1 /
 &numerics dp = 0.01 /
