@@ -12,7 +12,7 @@ module input_mesh
    use errors, only: input_error, alloc_check
    implicit none
    private
-   public :: mesh_cfg, read_meshes, write_meshes, mesh_layers, mesh_lattice
+   public :: mesh_cfg, read_meshes, write_meshes, mesh_layers, mesh_lattice, mesh_holding
 
    type :: mesh_cfg
       character(len=path_len) :: file = ''   !< the STL file, as given (relative: from the case file's folder)
@@ -147,6 +147,19 @@ contains
          end do axes
       end do
    end subroutine check_flat_faces
+
+   !> The first of the meshes, skip left out, whose mesh holds the point x; 0 for none.
+   integer function mesh_holding(meshes, x, skip) result(k)
+      type(mesh_cfg), intent(in) :: meshes(:)
+      real(rp), intent(in) :: x(3)
+      integer, intent(in) :: skip
+      do k = 1, size(meshes)
+         if (k == skip) cycle
+         if (any(x < meshes(k)%lo) .or. any(x > meshes(k)%hi)) cycle
+         if (stl_inside(meshes(k)%mesh, x)) return
+      end do
+      k = 0
+   end function mesh_holding
 
    logical function lattice_meets(m, dp) result(meets)
       type(mesh_cfg), intent(in) :: m

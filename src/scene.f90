@@ -4,7 +4,7 @@ module scene
    use kinds, only: rp
    use constants, only: kind_fluid, kind_fixed, kind_moving, kind_floating, kind_filter, ndim, nsec
    use input, only: case_cfg
-   use input_mesh, only: mesh_cfg, mesh_lattice, mesh_layers
+   use input_mesh, only: mesh_cfg, mesh_lattice, mesh_layers, mesh_holding
    use input_body, only: body_cfg, body_zrange, body_turn, body_tilted
    use body_shapes, only: body_outline, body_mass_properties, body_particles, mesh_shell
    use body_dynamics, only: body_t
@@ -474,7 +474,7 @@ contains
       call particles_grow(p, size(surf))
       points: do i = 1, size(surf)
          if (solid_covers(c%objs, 0, zdom, xs(1:nsec, i), xs(3, i))) cycle points
-         if (in_earlier_mesh(xs(:, i))) cycle points
+         if (mesh_holding(c%meshes(1:k - 1), xs(:, i), 0) > 0) cycle points
          p%n = p%n + 1
          m = p%n
          p%x(:, m) = xs(1:ndim, i)
@@ -486,22 +486,9 @@ contains
          p%surf(m) = surf(i)
          if (surf(i) > 0) then
             out = xs(:, i) + dp*ns(:, i)
-            if (solid_covers(c%objs, 0, zdom, out(1:nsec), out(3)) .or. in_earlier_mesh(out)) p%surf(m) = 0
+            if (solid_covers(c%objs, 0, zdom, out(1:nsec), out(3)) .or. mesh_holding(c%meshes(1:k - 1), out, 0) > 0) p%surf(m) = 0
          end if
       end do points
-   contains
-      !> Whether x lies in one of the &stl solids before k (where meshes overlap,
-      !> the earlier keeps its particles, as among the other solids).
-      logical function in_earlier_mesh(x) result(inside)
-         real(rp), intent(in) :: x(3)
-         integer :: e
-         inside = .false.
-         do e = 1, k - 1
-            if (any(x < c%meshes(e)%lo) .or. any(x > c%meshes(e)%hi)) cycle
-            inside = stl_inside(c%meshes(e)%mesh, x)
-            if (inside) return
-         end do
-      end function in_earlier_mesh
    end subroutine add_mesh_solid
 
    !> No body starts inside an &stl solid (bodies may touch walls, not cut into
@@ -511,19 +498,16 @@ contains
       type(particles_t), intent(in) :: p
       integer :: i, k, b
       real(rp) :: x(3)
-      do k = 1, size(c%meshes)
-         associate (m => c%meshes(k))
-            particles: do i = 1, p%n
-               b = p%body(i) - size(c%objs)
-               if (b < 1 .or. b > size(c%bodies)) cycle particles
-               x = 0.0_rp
-               x(1:ndim) = p%x(:, i)
-               if (any(x < m%lo) .or. any(x > m%hi)) cycle particles
-               if (stl_inside(m%mesh, x)) call input_error(c%file, 'body #'//int_str(b), '', &
-                  'the body overlaps the solid &stl #'//int_str(k)//' (bodies may touch walls, not cut into them)')
-            end do particles
-         end associate
-      end do
+      if (size(c%meshes) == 0) return
+      particles: do i = 1, p%n
+         b = p%body(i) - size(c%objs)
+         if (b < 1 .or. b > size(c%bodies)) cycle particles
+         x = 0.0_rp
+         x(1:ndim) = p%x(:, i)
+         k = mesh_holding(c%meshes, x, 0)
+         if (k > 0) call input_error(c%file, 'body #'//int_str(b), '', &
+            'the body overlaps the solid &stl #'//int_str(k)//' (bodies may touch walls, not cut into them)')
+      end do particles
    end subroutine bodies_clear_of_meshes
 
    !> Inside a body, or closer to its outline than half a spacing dp (in 3D:

@@ -26,8 +26,9 @@ module scene_ghosts
    use kinds, only: rp
    use constants, only: kind_fluid, kind_filter, ndim, nsec
    use input, only: case_cfg
+   use input_mesh, only: mesh_holding
    use input_body, only: body_cfg
-   use geom_stl, only: stl_t, stl_nearest, stl_inside, stl_triangle_point
+   use geom_stl, only: stl_nearest, stl_triangle_point
    use input_geometry, only: geom_zrange
    use options, only: role_solid, shape_stl
    use particles, only: particles_t
@@ -143,7 +144,7 @@ contains
       m = 0
       if (ndim == 3) then
          if (in_mesh(c, pad3(deep), 0)) return
-         m = mesh_holding(c, pad3(x))
+         m = mesh_holding(c%meshes, pad3(x), 0)
       end if
       do o = 1, size(c%objs)
          if (c%objs(o)%role_id /= role_solid) cycle
@@ -466,26 +467,8 @@ contains
       type(case_cfg), intent(in) :: c
       real(rp), intent(in) :: x(3)
       integer, intent(in) :: skip
-      integer :: k
-      inside = .false.
-      do k = 1, size(c%meshes)
-         if (k == skip) cycle
-         if (any(x < c%meshes(k)%lo) .or. any(x > c%meshes(k)%hi)) cycle
-         inside = stl_inside(c%meshes(k)%mesh, x)
-         if (inside) return
-      end do
+      inside = mesh_holding(c%meshes, x, skip) > 0
    end function in_mesh
-
-   !> The first &stl solid whose mesh holds the point x (3D); 0 for none.
-   integer function mesh_holding(c, x) result(k)
-      type(case_cfg), intent(in) :: c
-      real(rp), intent(in) :: x(3)
-      do k = 1, size(c%meshes)
-         if (any(x < c%meshes(k)%lo) .or. any(x > c%meshes(k)%hi)) cycle
-         if (stl_inside(c%meshes(k)%mesh, x)) return
-      end do
-      k = 0
-   end function mesh_holding
 
    !> The triangles of &stl solid k with free space just outside their
    !> centroid (inside the domain, in no other solid: a box, a polygon, a slope
