@@ -127,7 +127,7 @@ unit-debug: build/debug/mbsph $(addprefix build/debug/tests/,$(UNIT)) unit-3d
 
 # the unit tests that hold in any dimension, and tests/unit3d (the 3D rigid body), run in the
 # 3D build of the solver's modules (build/3d/debug, debug checks on)
-UNIT_3D := test_kernel test_tensor test_grid
+UNIT_3D := test_kernel test_tensor test_grid test_repulsive
 UNIT3D_SRC := $(sort $(wildcard tests/unit3d/test_*.f90))
 build/3d/debug/tests/%: tests/unit3d/%.f90 build/3d/debug/obj/testing.o \
   $(addprefix build/3d/debug/obj/,$(addsuffix .o,$(LIBNAMES))) | build/3d/debug/tests

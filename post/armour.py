@@ -3,7 +3,8 @@
 A breakwater run writes ``OUT/armour.csv`` once at its start: a header comment with the
 layer's parameters (``dn``, ``density``, ``rho_water``, ``placement``, ``porosity_target``,
 ``porosity``, ``threshold``, ``slope_angle_deg``, ``seed``) and one row per unit
-(``unit,body,x0,y0,angle0``; ``angle0`` in degrees). Each unit is a rigid body whose
+(``unit,body,x0,y0,angle0``; ``angle0`` in degrees; 3D adds ``z0`` and ``turn0``, the turn
+about the slope's normal in degrees). Each unit is a rigid body whose
 motion is in ``OUT/bodies.csv`` (``displacement`` in m and ``rotation`` in rad from the
 start of the run).
 
@@ -101,6 +102,9 @@ class ArmourLayer:
     angle0: np.ndarray
     z0: np.ndarray | None = None
     """3D: the units' places across the width (``z0``), else None"""
+    turn0: np.ndarray | None = None
+    """3D: the units' turns about the slope's normal in degrees (``turn0``; the body's
+    ``angle_y``, applied before ``angle0``), else None"""
 
     @property
     def dn(self) -> float:
@@ -143,7 +147,8 @@ def read_armour(path: str | Path) -> ArmourLayer:
     data = np.array(rows, dtype=float).reshape(len(rows), len(names))
     col = {n: data[:, j] for j, n in enumerate(names)}
     return ArmourLayer(meta=meta, unit=col["unit"].astype(int), body=col["body"].astype(int),
-                       x0=col["x0"], y0=col["y0"], angle0=col["angle0"], z0=col.get("z0"))
+                       x0=col["x0"], y0=col["y0"], angle0=col["angle0"], z0=col.get("z0"),
+                       turn0=col.get("turn0"))
 
 
 def van_der_meer_cubes_nod(ns: float | np.ndarray, n_waves: float, s_om: float | np.ndarray) -> np.ndarray:

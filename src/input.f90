@@ -547,12 +547,8 @@ contains
    !> water, boxes, polygons and slopes between walls of particles are there.
    subroutine refuse_in_3d(c)
       type(case_cfg), intent(in) :: c
-      character(len=*), parameter :: later = 'not yet in the 3D build (doc/3d.md lists what is); '// &
-                                             'the 2D build (build/mbsph) has it'
       ! the breakwater is a strip of an infinitely long one: no side walls are built
       if (c%breakwater%on .and. .not. c%domain%periodic_z) call input_error(c%file, 'breakwater', '', &
          'in the 3D build the breakwater is a strip with periodic sides: set &domain periodic_z = .true.')
-      if (c%numerics%boundary_id == bnd_repulsive) call input_error(c%file, 'numerics', 'boundary', &
-                                                                   "'repulsive' is "//later)
    end subroutine refuse_in_3d
 end module input

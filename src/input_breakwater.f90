@@ -48,6 +48,7 @@ module input_breakwater
       real(rp) :: threshold = 1.0_rp        !< a unit is displaced beyond threshold*dn [-]
       logical :: toe_block = .true.         !< a fixed unit at the toe holds the layer
       integer :: n_across = 0               !< 3D: rows side by side across the width (0: equal gaps both ways)
+      real(rp) :: max_turn = 5.0_rp         !< 3D, irregular: largest turn about the slope's normal [deg]
    end type armour_cfg
 
    real(rp) :: x_start, depth, toe_depth, flat_length, foreshore_angle, slope_cot, rc, crest_width, rear_cot
@@ -57,11 +58,11 @@ module input_breakwater
    namelist /breakwater/ x_start, depth, toe_depth, flat_length, foreshore_angle, slope_cot, rc, crest_width, &
       rear_cot, layers, core, core_porosity, core_d50, underlayer_porosity, underlayer_d50, underlayer_thickness
    character(len=name_len) :: placement
-   real(rp) :: dn, density, porosity, mu, max_tilt, gap_spread, threshold
+   real(rp) :: dn, density, porosity, mu, max_tilt, gap_spread, threshold, max_turn
    integer :: seed, n_units, n_across
    logical :: toe_block
    namelist /armour/ placement, dn, density, porosity, mu, seed, max_tilt, gap_spread, n_units, threshold, toe_block, &
-      n_across
+      n_across, max_turn
 
 contains
 
@@ -143,7 +144,7 @@ contains
       type(armour_cfg), intent(in) :: c
       placement = c%placement; dn = c%dn; density = c%density; porosity = c%porosity; mu = c%mu
       seed = c%seed; max_tilt = c%max_tilt; gap_spread = c%gap_spread; n_units = c%n_units
-      threshold = c%threshold; toe_block = c%toe_block; n_across = c%n_across
+      threshold = c%threshold; toe_block = c%toe_block; n_across = c%n_across; max_turn = c%max_turn
    end subroutine ar_to_vars
 
    subroutine read_armour(file, dp, c)
@@ -166,7 +167,7 @@ contains
       c%on = .true.
       c%placement = placement; c%dn = dn; c%density = density; c%porosity = porosity; c%mu = mu
       c%seed = seed; c%max_tilt = max_tilt; c%gap_spread = gap_spread; c%n_units = n_units
-      c%threshold = threshold; c%toe_block = toe_block; c%n_across = n_across
+      c%threshold = threshold; c%toe_block = toe_block; c%n_across = n_across; c%max_turn = max_turn
       c%placement_id = option_index(file, g, 'placement', c%placement, placement_names)
       c%placement = placement_names(c%placement_id)
       call check_real(file, g, 'dn', c%dn, 3.0_rp*dp, 100.0_rp)
@@ -177,6 +178,8 @@ contains
       call check_int(file, g, 'seed', c%seed, 0, huge(1))
       call check_real(file, g, 'max_tilt', c%max_tilt, 0.0_rp, 30.0_rp)
       call check_real(file, g, 'gap_spread', c%gap_spread, 0.0_rp, 1.0_rp)
+      ! a cube turned by more than 45 degrees is one turned by less the other way
+      call check_real(file, g, 'max_turn', c%max_turn, 0.0_rp, 45.0_rp)
       call check_int(file, g, 'n_units', c%n_units, 0, 100000)
       call check_real(file, g, 'threshold', c%threshold, 0.0_rp, 100.0_rp, lo_open=.true.)
       call check_int(file, g, 'n_across', c%n_across, 0, 100000)

@@ -12,7 +12,8 @@ module io_armour
 contains
 
    !> header: the parameters of the layer, 'key=value' separated by commas
-   !> (scene_flume: armour_csv_header); pose(:, k): x, y, (z in 3D,) angle of unit k at the
+   !> (scene_flume: armour_csv_header); pose(:, k): x, y, (z in 3D,) angle (and in 3D the turn
+   !> about the slope's normal, angle_y, in degrees) of unit k at the
    !> start; its body number is first + k - 1, the one of bodies.csv.
    subroutine armour_csv_write(out_dir, header, first, pose)
       character(len=*), intent(in) :: out_dir, header
@@ -26,7 +27,7 @@ contains
       if (ndim == 2) then
          write (u, '(a)') 'unit,body,x0,y0,angle0'
       else
-         write (u, '(a)') 'unit,body,x0,y0,z0,angle0'
+         write (u, '(a)') 'unit,body,x0,y0,z0,angle0,turn0'
       end if
       do k = 1, size(pose, 2)
          write (u, '(i0,",",i0,*(:,",",es23.15e3))') k, first + k - 1, pose(:, k)

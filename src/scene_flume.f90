@@ -30,14 +30,19 @@ module scene_flume
       real(rp) :: porosity = 0.0_rp        !< achieved [-]
       real(rp) :: alpha = 0.0_rp           !< slope angle [rad]
       real(rp) :: width = 0.0_rp           !< the width across the layer (3D) [m]
-      real(rp), allocatable :: pose(:, :)  !< (ndim + 1, n_units): x [m], y [m], (z [m],) angle [deg] at the start
+      !> (npose, n_units) at the start: x [m], y [m], angle [deg] in 2D; x, y, z [m], angle, turn [deg] in 3D
+      real(rp), allocatable :: pose(:, :)
    end type armour_layer_t
 
-   !> A row of units along the slope while it is being laid out.
+   !> A row of units along the slope while it is being laid out. A unit is
+   !> turned by turn about the slope's normal (3D), then tilted by tilt in the
+   !> section; foot is its length along the slope, rise its height above it.
    type :: row_t
       real(rp) :: dn = 0.0_rp, target = 0.0_rp, s0 = 0.0_rp
-      real(rp), allocatable :: tilt(:), wgt(:), foot(:), sc(:)
+      real(rp), allocatable :: tilt(:), turn(:), wgt(:), foot(:), rise(:), sc(:)
    end type row_t
+
+   integer, parameter :: npose = 2*ndim - 1   !< rows of armour_layer_t%pose
 
    real(rp), parameter :: deg = pi/180.0_rp
    integer, parameter :: max_parts = 10    !< objects of a breakwater: 6 bed lines, 2 walls, the water (twice)
@@ -281,7 +286,7 @@ contains
       type(body_cfg), allocatable, intent(out) :: bodies(:)
       type(armour_layer_t), intent(out) :: layer
       real(rp) :: x_fs, x_toe, x_cf, x_cb, x_rf, y_toe, y_c, s_max, t(2), nrm(2), p0(2), pitch, target, zc, &
-                  por_sum
+                  por_sum, turn_max
       type(row_t) :: r
       type(body_cfg), allocatable :: units(:), toes(:)
       integer :: n, k, j, ncol, zstate, m
@@ -295,26 +300,29 @@ contains
       pitch = 0.0_rp
       target = ar%porosity
       if (ndim == 3) call columns_across(file, ar, zdom, ncol, pitch, target)
+      turn_max = 0.0_rp
+      if (ndim == 3 .and. ar%placement_id == placement_irregular) turn_max = fitting_turn(ar, pitch)
       allocate (units(0), toes(0))
       por_sum = 0.0_rp
       do j = 1, ncol
-         call fit_row(file, ar, target, s_max, ar%seed + (j - 1)*7919, r, n)
+         call fit_row(file, ar, target, s_max, ar%seed + (j - 1)*7919, turn_max, r, n)
          if (n > 1) por_sum = por_sum + row_porosity(r, n)
          zc = zdom(1) + (j - 0.5_rp)*pitch
          zstate = ar%seed + 104729*j
          if (ar%toe_block) then
-            toes = [toes, unit_cfg(ar, p0, t, nrm, layer%alpha, 0.5_rp*ar%dn, 0.0_rp)]
+            toes = [toes, unit_cfg(ar, p0, t, nrm, layer%alpha, 0.5_rp*ar%dn, 0.0_rp, ar%dn, 0.0_rp)]
             m = size(toes)
             toes(m)%motion = 'fixed'
             toes(m)%motion_id = motion_fixed
             if (ndim == 3) call across(toes(m), zc)
          end if
          do k = 1, n
-            units = [units, unit_cfg(ar, p0, t, nrm, layer%alpha, r%sc(k), r%tilt(k))]
+            units = [units, unit_cfg(ar, p0, t, nrm, layer%alpha, r%sc(k), r%tilt(k), r%rise(k), r%turn(k))]
             if (ndim == 3) then
                if (ar%placement_id == placement_irregular) then
-                  call across(units(size(units)), zc + (2.0_rp*uniform(zstate) - 1.0_rp)*0.5_rp*(pitch - ar%dn)* &
-                              ar%gap_spread)
+                  ! the play across is what the turned unit's span leaves of the pitch
+                  call across(units(size(units)), zc + (2.0_rp*uniform(zstate) - 1.0_rp)*0.5_rp* &
+                              (pitch - ar%dn*turned_span(r%turn(k)))*ar%gap_spread)
                else
                   call across(units(size(units)), zc)
                end if
@@ -328,11 +336,12 @@ contains
       layer%width = zdom(2) - zdom(1)
       bodies = [toes, units]
       layer%first = size(toes) + 1       ! relative to these bodies; the caller shifts it
-      allocate (layer%pose(ndim + 1, n))
+      allocate (layer%pose(npose, n))
       do k = 1, n
          layer%pose(1:2, k) = [units(k)%x, units(k)%y]
          if (ndim == 3) layer%pose(3, k) = units(k)%z
          layer%pose(ndim + 1, k) = units(k)%angle
+         if (ndim == 3) layer%pose(npose, k) = units(k)%angle_y
       end do
    contains
       !> Unit b across the width: a cube centred at z.
@@ -343,6 +352,24 @@ contains
          b%depth = ar%dn
       end subroutine across
    end subroutine armour_units
+
+   !> 3D, irregular: the largest turn about the slope's normal a unit may take,
+   !> max_turn or less: a turned cube spans dn turned_span(turn) across, and
+   !> that must fit within the pitch, so that neighbours across never meet.
+   real(rp) function fitting_turn(ar, pitch) result(tm)
+      type(armour_cfg), intent(in) :: ar
+      real(rp), intent(in) :: pitch
+      ! turned_span(turn) = sqrt(2) sin(turn + pi/4), rising from 1 at 0 to sqrt(2) at pi/4
+      tm = min(ar%max_turn*deg, asin(min(1.0_rp, pitch/(sqrt(2.0_rp)*ar%dn))) - 0.25_rp*pi)
+      tm = max(0.0_rp, tm)
+   end function fitting_turn
+
+   !> The span of a cube of side 1 turned by turn about one of its axes, along
+   !> another of them.
+   elemental real(rp) function turned_span(turn) result(w)
+      real(rp), intent(in) :: turn
+      w = abs(cos(turn)) + abs(sin(turn))
+   end function turned_span
 
    !> 3D: the rows across the width, their pitch and the porosity a row along
    !> the slope must have for the layer to reach its target: the units take dn
@@ -371,11 +398,12 @@ contains
 
    !> One row along the slope: the draws of the seed, the most units that fit
    !> below the crest at the target porosity (or n_units), their places.
-   subroutine fit_row(file, ar, target, s_max, seed, r, n)
+   subroutine fit_row(file, ar, target, s_max, seed, turn_max, r, n)
       character(len=*), intent(in) :: file
       type(armour_cfg), intent(in) :: ar
       real(rp), intent(in) :: target, s_max
       integer, intent(in) :: seed
+      real(rp), intent(in) :: turn_max          !< largest turn about the slope's normal [rad] (3D)
       type(row_t), intent(out) :: r
       integer, intent(out) :: n
       integer :: ncap, k
@@ -385,7 +413,7 @@ contains
       r%target = target
       r%s0 = merge(ar%dn, 0.0_rp, ar%toe_block)
       ncap = max(0, floor((s_max - r%s0)/ar%dn))
-      call draw_units(ar, seed, ncap, r)
+      call draw_units(ar, seed, ncap, turn_max, r)
       n = 0
       fit: do k = ncap, 1, -1
          call solve_gaps(r, k)
@@ -405,24 +433,43 @@ contains
       end if
       if (n > 1) then
          por = row_porosity(r, n)
+         ! said of the layer: in 3D a row's voids are a share of the layer's (columns_across)
          if (abs(por - target) > 0.02_rp) call input_error(file, g, 'porosity', &
-            'the layer cannot reach porosity '//real_str(target)//' with these tilts (reached '//real_str(por)//')')
+            'the layer cannot reach porosity '//real_str(ar%porosity)//' with these tilts'// &
+            turns_note(turn_max > 0.0_rp, 1.0_rp - (1.0_rp - por)*(1.0_rp - ar%porosity)/(1.0_rp - target)))
       end if
    end subroutine fit_row
 
-   !> Tilts and gap weights of up to ncap units, from the seed; the draws do
-   !> not depend on how many units fit, so a longer slope extends the same row.
-   subroutine draw_units(ar, seed, ncap, r)
+   !> The end of fit_row's message: the turns named where there are any.
+   function turns_note(turned, por) result(t)
+      logical, intent(in) :: turned
+      real(rp), intent(in) :: por
+      character(len=:), allocatable :: t
+      if (turned) then
+         t = ' and turns (reached '//real_str(por)//'; a smaller max_turn or a larger porosity)'
+      else
+         t = ' (reached '//real_str(por)//')'
+      end if
+   end function turns_note
+
+   !> Tilts, turns and gap weights of up to ncap units, from the seed; the
+   !> draws do not depend on how many units fit, so a longer slope extends
+   !> the same row. The turns (3D) have a stream of their own, so that the
+   !> tilts and gaps of a seed are the same with and without them.
+   subroutine draw_units(ar, seed, ncap, turn_max, r)
       type(armour_cfg), intent(in) :: ar
       integer, intent(in) :: seed, ncap
+      real(rp), intent(in) :: turn_max
       type(row_t), intent(inout) :: r
       integer :: i, state
       integer :: ist
       character(len=200) :: emsg
+      real(rp) :: span(ncap)
       ! allow(multiple-allocations-with-stat): any of them refused is the same stop
-      allocate (r%tilt(ncap), r%wgt(ncap), stat=ist, errmsg=emsg)
-      call alloc_check(ist, emsg, 'r%tilt, r%wgt in draw_units')
+      allocate (r%tilt(ncap), r%turn(ncap), r%wgt(ncap), stat=ist, errmsg=emsg)
+      call alloc_check(ist, emsg, 'r%tilt, r%turn, r%wgt in draw_units')
       r%tilt = 0.0_rp
+      r%turn = 0.0_rp
       r%wgt = 1.0_rp
       state = seed
       if (ar%placement_id == placement_irregular) then
@@ -431,7 +478,16 @@ contains
             r%wgt(i) = 1.0_rp + (2.0_rp*uniform(state) - 1.0_rp)*ar%gap_spread
          end do
       end if
-      r%foot = ar%dn*(abs(cos(r%tilt)) + abs(sin(r%tilt)))
+      if (turn_max > 0.0_rp) then
+         state = mod(seed + 15485863, huge(1))
+         do i = 1, ncap
+            r%turn(i) = (2.0_rp*uniform(state) - 1.0_rp)*turn_max
+         end do
+      end if
+      ! the extents along the slope and normal to it of the turned, then tilted cube
+      span = turned_span(r%turn)
+      r%foot = ar%dn*(span*abs(cos(r%tilt)) + abs(sin(r%tilt)))
+      r%rise = ar%dn*(span*abs(sin(r%tilt)) + abs(cos(r%tilt)))
    end subroutine draw_units
 
    !> Gaps of the first m units that meet the target porosity (bisection:
@@ -486,15 +542,17 @@ contains
       type(row_t), intent(in) :: r
       integer, intent(in) :: m
       integer, parameter :: nn = 40
-      integer :: ns, a, b, k0, inside
-      real(rp) :: len, ds, s, nu, ct(m), st(m)
+      integer :: ns, a, b, k0
+      real(rp) :: len, ds, s, nu, ct(m), st(m), cw(m), sw(m), inside
       ! each unit's rotation once, not once per sample point
       ct = cos(r%tilt(1:m))
       st = sin(r%tilt(1:m))
+      cw = cos(r%turn(1:m))
+      sw = sin(r%turn(1:m))
       len = r%sc(m) + 0.5_rp*r%foot(m) - r%s0
       ns = max(1, nint(len/(r%dn/nn)))
       ds = len/ns
-      inside = 0
+      inside = 0.0_rp
       k0 = 1
       do a = 1, ns
          s = r%s0 + (a - 0.5_rp)*ds
@@ -504,42 +562,60 @@ contains
          end do first_near
          do b = 1, nn
             nu = (b - 0.5_rp)*r%dn/nn
-            if (in_some_unit(r, ct, st, k0, min(m, k0 + 3), s, nu)) inside = inside + 1
+            inside = inside + unit_depth(r, ct, st, cw, sw, k0, min(m, k0 + 3), s, nu)
          end do
       end do
-      pr = 1.0_rp - real(inside, rp)/real(ns*nn, rp)
+      pr = 1.0_rp - inside/real(ns*nn, rp)
    end function row_porosity
 
-   !> Is the point (s along the slope, nu above it) inside one of units k0..k1
-   !> (ct, st: the cosine and sine of each unit's tilt)?
-   pure logical function in_some_unit(r, ct, st, k0, k1, s, nu) result(inside)
+   !> How deep across, in dn, one of units k0..k1 holds the line across the
+   !> width through the point (s along the slope, nu above it): 1 inside an
+   !> unturned unit, the chord of the turned square otherwise (ct, st: the
+   !> cosine and sine of each unit's tilt; cw, sw: of its turn). Summed over
+   !> the section, it gives the units' volume in the band.
+   pure real(rp) function unit_depth(r, ct, st, cw, sw, k0, k1, s, nu) result(d)
       type(row_t), intent(in) :: r
-      real(rp), intent(in) :: ct(:), st(:)
+      real(rp), intent(in) :: ct(:), st(:), cw(:), sw(:)
       integer, intent(in) :: k0, k1
       real(rp), intent(in) :: s, nu
       integer :: k
-      real(rp) :: c, sn, u, v
-      inside = .false.
+      real(rp) :: c, sn, u, v, a, z1, z2, lo, hi
+      d = 0.0_rp
+      a = 0.5_rp*r%dn
       do k = k0, k1
          c = ct(k)
          sn = st(k)
-         u = c*(s - r%sc(k)) + sn*(nu - 0.5_rp*r%foot(k))
-         v = -sn*(s - r%sc(k)) + c*(nu - 0.5_rp*r%foot(k))
-         if (max(abs(u), abs(v)) <= 0.5_rp*r%dn) then
-            inside = .true.
+         ! the point in the frame of the unit turned about its normal (its tilt undone)
+         u = c*(s - r%sc(k)) + sn*(nu - 0.5_rp*r%rise(k))
+         v = -sn*(s - r%sc(k)) + c*(nu - 0.5_rp*r%rise(k))
+         if (abs(v) > a) cycle
+         if (abs(sw(k)) <= 0.0_rp) then
+            if (abs(u) <= a) then
+               d = 1.0_rp
+               return
+            end if
+            cycle
+         end if
+         ! the line (u, z) in the unit's frame: |cw u - sw z| <= a and |sw u + cw z| <= a (|turn| <= pi/4: cw > 0)
+         z1 = (cw(k)*u - a)/sw(k)
+         z2 = (cw(k)*u + a)/sw(k)
+         lo = max(min(z1, z2), (-a - sw(k)*u)/cw(k))
+         hi = min(max(z1, z2), (a - sw(k)*u)/cw(k))
+         if (hi > lo) then
+            d = (hi - lo)/r%dn
             return
          end if
       end do
-   end function in_some_unit
+   end function unit_depth
 
-   !> A unit centred s along the slope from the toe p0, tilted by phi from
-   !> the slope, its lowest corner (or face) on the slope.
-   type(body_cfg) function unit_cfg(ar, p0, t, nrm, alpha, s, phi) result(b)
+   !> A unit centred s along the slope from the toe p0, turned by psi about
+   !> the slope's normal (3D), then tilted by phi from the slope, its lowest
+   !> corner (or face) on the slope: its centre rise/2 above it.
+   type(body_cfg) function unit_cfg(ar, p0, t, nrm, alpha, s, phi, rise, psi) result(b)
       type(armour_cfg), intent(in) :: ar
-      real(rp), intent(in) :: p0(2), t(2), nrm(2), alpha, s, phi
-      real(rp) :: w, c(2)
-      w = ar%dn*(abs(cos(phi)) + abs(sin(phi)))
-      c = p0 + s*t + 0.5_rp*w*nrm
+      real(rp), intent(in) :: p0(2), t(2), nrm(2), alpha, s, phi, rise, psi
+      real(rp) :: c(2)
+      c = p0 + s*t + 0.5_rp*rise*nrm
       b%shape = 'box'
       b%shape_id = shape_box
       b%width = ar%dn
@@ -547,6 +623,8 @@ contains
       b%x = c(1)
       b%y = c(2)
       b%angle = (alpha + phi)/deg
+      ! R = Rz(alpha + phi) Ry(psi): turned about its own normal, then laid on the slope
+      if (ndim == 3) b%angle_y = psi/deg
       b%density = ar%density
       b%mu = ar%mu
       b%motion = 'floating'
