@@ -23,8 +23,9 @@ Usage::
                           [--t-start T0] [--t-end T1] [--table FILE.md] [--out DIR]
 
 For each run it prints the damage and draws ``armour_layer.png`` (units at the start and
-the end, coloured by displacement/dn) and ``armour_displacement.png`` (displacement/dn
-against time); with ``--table`` it writes a Markdown table of the runs beside the
+the end, coloured by displacement/dn), ``armour_displacement.png`` (displacement/dn
+against time) and, for a 3D layer, ``armour_plan.png`` (the layer seen along the slope's
+normal, turned units as they lie); with ``--table`` it writes a Markdown table of the runs beside the
 laboratory ranges, and ``armour_ns.png`` (Ns against Nod, with those ranges). Figures go
 to ``--out`` (several runs: ``--out/<run>/``), by default each run's folder; ``armour_ns.png``
 goes to ``--out``, else beside the table.
@@ -59,6 +60,9 @@ __all__ = [
     "markdown_table",
     "plot_layer",
     "plot_displacement",
+    "plot_plan",
+    "footprint",
+    "unit_rotations",
     "plot_ns",
     "main",
 ]
@@ -176,6 +180,10 @@ class UnitMotion:
     y: np.ndarray
     displacement: np.ndarray
     rotation: np.ndarray
+    z: np.ndarray | None = None
+    """3D: the centre across the width (m), else None"""
+    quaternion: np.ndarray | None = None
+    """3D: the orientation (qw, qx, qy, qz) at each time, (n, 4), else None"""
 
 
 def unit_motion(bodies: dict[str, np.ndarray], body: int) -> UnitMotion:
@@ -185,6 +193,10 @@ def unit_motion(bodies: dict[str, np.ndarray], body: int) -> UnitMotion:
         raise KeyError(f"body {body} has no row in bodies.csv")
     order = np.argsort(bodies["time"][m], kind="stable")
     pick = {k: np.asarray(bodies[k][m], dtype=float)[order] for k in ("time", "x", "y", "displacement", "rotation")}
+    if "qw" in bodies:
+        pick["z"] = np.asarray(bodies["z"][m], dtype=float)[order]
+        pick["quaternion"] = np.column_stack([np.asarray(bodies[k][m], dtype=float)[order]
+                                              for k in ("qw", "qx", "qy", "qz")])
     return UnitMotion(body=body, **pick)
 
 
@@ -408,6 +420,96 @@ def plot_layer(r: ArmourDamage, path: str | Path) -> Path:
     return save_figure(fig, path)
 
 
+def _quaternion_matrix(q: np.ndarray) -> np.ndarray:
+    """Rotation matrix of the unit quaternion (w, x, y, z)."""
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def unit_rotations(lay: ArmourLayer) -> np.ndarray:
+    """3D: each unit's start orientation from its own frame, Rz(angle0) Ry(turn0), (n, 3, 3)."""
+    out = []
+    turns = lay.turn0 if lay.turn0 is not None else np.zeros_like(lay.angle0)
+    for a, b in zip(np.radians(lay.angle0), np.radians(turns)):
+        rz = np.array([[math.cos(a), -math.sin(a), 0.0], [math.sin(a), math.cos(a), 0.0], [0.0, 0.0, 1.0]])
+        ry = np.array([[math.cos(b), 0.0, math.sin(b)], [0.0, 1.0, 0.0], [-math.sin(b), 0.0, math.cos(b)]])
+        out.append(rz @ ry)
+    return np.array(out)
+
+
+def _hull(points: np.ndarray) -> np.ndarray:
+    """Convex hull of 2D points, counter-clockwise and closed (Andrew's monotone chain)."""
+    pts = sorted(map(tuple, np.round(points, 15)))
+
+    def half(seq):
+        out: list[tuple[float, float]] = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0.0:
+                out.pop()
+            out.append(p)
+        return out
+
+    lower, upper = half(pts), half(reversed(pts))
+    ring = lower[:-1] + upper[:-1]
+    return np.array(ring + ring[:1])
+
+
+def footprint(centre: np.ndarray, rot: np.ndarray, dn: float, alpha: float) -> np.ndarray:
+    """Outline of a cube (side dn, centre, rotation rot from its own frame) projected on the
+    slope plane of angle alpha: (s along the slope, z across), closed polygon."""
+    corners = 0.5 * dn * np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], dtype=float)
+    v = centre + corners @ rot.T
+    t = np.array([math.cos(alpha), math.sin(alpha), 0.0])
+    return _hull(np.column_stack([v @ t, v[:, 2]]))
+
+
+def plot_plan(r: ArmourDamage, path: str | Path) -> Path:
+    """3D: ``armour_plan.png``, the layer seen along the slope's normal: each unit's outline
+    on the slope plane (s along the slope, z across) at the start (dashed) and at the end
+    (filled by final displacement/dn), the turned units as they lie."""
+    from matplotlib.collections import PolyCollection
+    from matplotlib.colors import Normalize
+
+    lay = r.layer
+    if lay.z0 is None or any(m.quaternion is None for m in r.motions):
+        raise ValueError(f"{r.run}: the plan view is for a 3D layer (armour.csv z0, bodies.csv quaternions)")
+    alpha = math.radians(float(lay.meta["slope_angle_deg"]))
+    rot0 = unit_rotations(lay)
+    start, end = [], []
+    for k, m in enumerate(r.motions):
+        c0 = np.array([lay.x0[k], lay.y0[k], lay.z0[k]])
+        start.append(footprint(c0, rot0[k], lay.dn, alpha))
+        # the final pose: the start moved and turned as bodies.csv says, relative to its first row
+        turn = _quaternion_matrix(m.quaternion[-1]) @ _quaternion_matrix(m.quaternion[0]).T
+        c1 = c0 + np.array([m.x[-1] - m.x[0], m.y[-1] - m.y[0], m.z[-1] - m.z[0]])
+        end.append(footprint(c1, turn @ rot0[k], lay.dn, alpha))
+    ratio = r.final_displacement / lay.dn
+    norm = Normalize(0.0, max(1.5 * lay.threshold, float(np.max(ratio))))
+    allp = np.concatenate(start + end)
+    fig, ax = plt.subplots(figsize=(9, 3.5))
+    filled = PolyCollection([p[:-1] for p in end], array=ratio, cmap="viridis", norm=norm, edgecolors="k",
+                            linewidths=0.6)
+    ax.add_collection(filled)
+    ax.add_collection(PolyCollection([p[:-1] for p in start], facecolors="none", edgecolors="0.3",
+                                     linestyles="--", linewidths=0.8))
+    width = float(lay.meta.get("width", np.ptp(allp[:, 1])))
+    for zz in (0.0, width):
+        ax.axhline(zz, color="0.6", lw=0.8)
+    ax.set_xlim(allp[:, 0].min() - lay.dn, allp[:, 0].max() + lay.dn)
+    ax.set_ylim(min(0.0, allp[:, 1].min()) - 0.5 * lay.dn, max(width, allp[:, 1].max()) + 0.5 * lay.dn)
+    ax.set_aspect("equal")
+    fig.colorbar(filled, ax=ax, label="final displacement / dn")
+    ax.set_xlabel("along the slope, s = x cos(alpha) + y sin(alpha) [m]")
+    ax.set_ylabel("across, z [m]")
+    ax.set_title(f"{r.run}: the layer along the slope's normal, start dashed ({lay.meta.get('placement', '')}); "
+                 f"{r.n_displaced} of {r.units} displaced", fontsize=9)
+    fig.tight_layout()
+    return save_figure(fig, path)
+
+
 def plot_displacement(r: ArmourDamage, path: str | Path) -> Path:
     """``armour_displacement.png``: displacement/dn of every unit against time, threshold line."""
     fig, ax = plt.subplots(figsize=(8, 4.5))
@@ -484,6 +586,8 @@ def main(argv: Sequence[str] | None = None) -> int:
               f"largest during the run {np.max(r.max_displacement) / r.layer.dn:.4f} dn")
         print(f"wrote {plot_layer(r, figdir / 'armour_layer.png')}")
         print(f"wrote {plot_displacement(r, figdir / 'armour_displacement.png')}")
+        if r.layer.z0 is not None:
+            print(f"wrote {plot_plan(r, figdir / 'armour_plan.png')}")
     if args.table is not None:
         args.table.parent.mkdir(parents=True, exist_ok=True)
         command = " ".join(sys.argv[1:] if argv is None else argv)

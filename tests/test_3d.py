@@ -647,18 +647,6 @@ def strip_text(width: float = 0.18, placement: str = "regular", periodic: bool =
                         placement=placement, armour=armour)
 
 
-def unit_turns(layer) -> np.ndarray:
-    """Each unit's rotation from its own frame, R = Rz(angle0) Ry(turn0), as (n, 3, 3)."""
-    az = np.radians(layer.angle0)
-    ay = np.radians(layer.turn0 if layer.turn0 is not None else np.zeros_like(az))
-    zero, one = np.zeros_like(az), np.ones_like(az)
-    rz = np.stack([np.stack([np.cos(az), -np.sin(az), zero], -1), np.stack([np.sin(az), np.cos(az), zero], -1),
-                   np.stack([zero, zero, one], -1)], -2)
-    ry = np.stack([np.stack([np.cos(ay), zero, np.sin(ay)], -1), np.stack([zero, one, zero], -1),
-                   np.stack([-np.sin(ay), zero, np.cos(ay)], -1)], -2)
-    return rz @ ry
-
-
 def layer_check(layer, dn: float, pitch: float, samples: int = 200_000) -> dict:
     """What the geometry of a 3D armour layer is, worked out here from armour.csv alone:
     each unit's lowest point above the slope line, its extents along the slope and across,
@@ -668,7 +656,8 @@ def layer_check(layer, dn: float, pitch: float, samples: int = 200_000) -> dict:
     alpha = math.radians(layer.meta["slope_angle_deg"])
     t = np.array([math.cos(alpha), math.sin(alpha), 0.0])
     nrm = np.array([-math.sin(alpha), math.cos(alpha), 0.0])
-    rot = unit_turns(layer)
+    from post.armour import unit_rotations
+    rot = unit_rotations(layer)
     corners = 0.5 * dn * np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], dtype=float)
     centre = np.stack([layer.x0, layer.y0, layer.z0], -1)
     verts = centre[:, None, :] + np.einsum("nij,cj->nci", rot, corners)
@@ -746,6 +735,17 @@ def test_3d_armour_layer_across_the_width(placement: str, armour: str, tmp_path:
         assert np.all(geo["s_lo"][m[1:]] >= geo["s_hi"][m[:-1]] - 1e-9)
     assert np.all(geo["z_lo"] >= column * pitch - 1e-12) and np.all(geo["z_hi"] <= (column + 1) * pitch + 1e-12)
     assert abs(np.mean(geo["porosity"]) - layer.meta["porosity"]) <= 0.01, (geo["porosity"], layer.meta)
+    # the plan view (post.armour's armour_plan.png): each unit's outline on the slope plane
+    # has the area of the cube's shadow along the slope's normal n, dn^2 sum_i |n . R e_i|
+    from post.armour import footprint, main as armour_main, unit_rotations
+    alpha = math.radians(layer.meta["slope_angle_deg"])
+    nrm = np.array([-math.sin(alpha), math.cos(alpha), 0.0])
+    for k, rot in enumerate(unit_rotations(layer)):
+        poly = footprint(np.array([layer.x0[k], layer.y0[k], layer.z0[k]]), rot, dn, alpha)
+        area = 0.5 * abs(np.sum(poly[:-1, 0] * poly[1:, 1] - poly[1:, 0] * poly[:-1, 1]))
+        assert area == pytest.approx(dn * dn * np.sum(np.abs(nrm @ rot)), rel=1e-9)
+    assert armour_main([str(out), "--out", str(tmp_path / "fig")]) == 0
+    assert (tmp_path / "fig" / "armour_plan.png").stat().st_size > 10_000
 
 
 @pytest.mark.parametrize("edit, where, words", [
