@@ -550,5 +550,12 @@ contains
       ! the breakwater is a strip of an infinitely long one: no side walls are built
       if (c%breakwater%on .and. .not. c%domain%periodic_z) call input_error(c%file, 'breakwater', '', &
          'in the 3D build the breakwater is a strip with periodic sides: set &domain periodic_z = .true.')
+      ! the repulsive force is spread over a wall's lattice along the axes an
+      ! extruded wall has; a body's or a mesh's lattice turns with it, which the
+      ! fluid's pair loop does not know yet
+      if (c%numerics%boundary_id == bnd_repulsive .and. (size(c%bodies) > 0 .or. size(c%meshes) > 0 .or. &
+                                                         c%armour%on)) call input_error(c%file, 'numerics', &
+         'boundary', "'repulsive' in the 3D build is for walls drawn as &box, &polygon and &slope; bodies "// &
+         "(&body, &armour) and &stl solids need 'dynamic' or 'mdbc' (doc/3d.md)")
    end subroutine refuse_in_3d
 end module input

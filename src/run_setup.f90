@@ -34,7 +34,7 @@ module run_setup
    use wave_paddle, only: paddle_t, paddle_absorb_tune
    use scene_flume, only: scene_paddle, armour_csv_header
    use probe_gauges, only: gauges_count, gauges_init
-   use options, only: gauge_elevation, wave_irregular
+   use options, only: gauge_elevation, wave_irregular, role_solid
    use io_armour, only: armour_csv_write
    use solver, only: run_t
    implicit none
@@ -394,7 +394,26 @@ contains
          ' units of dn = '//real_str(c%armour%dn)//' m, density '//real_str(c%armour%density)// &
          ' kg/m3 on a slope of '//real_str(c%layer%alpha*57.29577951308232_rp)//' deg, porosity '// &
          real_str(c%layer%porosity)//' (target '//real_str(c%armour%porosity)//')')
+      if (c%armour%on .and. c%layer%turn_max > 0.0_rp) call log_line('  armour: turned about the slope''s normal '// &
+         'by up to '//real_str(c%layer%turn_max)//' deg (max_turn '//real_str(c%armour%max_turn)// &
+         ', held to what a slot across leaves)')
+      if (ndim == 3 .and. r%prm%boundary == bnd_repulsive .and. side_walls(c)) call log_line('  note: on the '// &
+         'repulsive boundary a current runs along side walls in still water (doc/3d.md, "Wall surfaces")')
       call log_line('  output: '//r%out//', snapshot every '//real_str(c%run%dt_out)//' s until t = '// &
                     real_str(c%run%t_end)//' s')
    end subroutine banner
+
+   !> 3D: whether a solid ends across the width inside the domain (a side wall's face).
+   logical function side_walls(c)
+      type(case_cfg), intent(in) :: c
+      real(rp) :: tol
+      integer :: k
+      tol = 1.0e-9_rp*(c%domain%zmax - c%domain%zmin)
+      side_walls = .false.
+      do k = 1, size(c%objs)
+         if (c%objs(k)%role_id /= role_solid) cycle
+         if (c%objs(k)%zr(2) <= c%objs(k)%zr(1)) cycle
+         if (c%objs(k)%zr(1) > c%domain%zmin + tol .or. c%objs(k)%zr(2) < c%domain%zmax - tol) side_walls = .true.
+      end do
+   end function side_walls
 end module run_setup

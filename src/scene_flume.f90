@@ -30,6 +30,7 @@ module scene_flume
       real(rp) :: porosity = 0.0_rp        !< achieved [-]
       real(rp) :: alpha = 0.0_rp           !< slope angle [rad]
       real(rp) :: width = 0.0_rp           !< the width across the layer (3D) [m]
+      real(rp) :: turn_max = 0.0_rp        !< 3D, irregular: the largest turn about the slope's normal drawn [deg]
       !> (npose, n_units) at the start: x [m], y [m], angle [deg] in 2D; x, y, z [m], angle, turn [deg] in 3D
       real(rp), allocatable :: pose(:, :)
    end type armour_layer_t
@@ -302,13 +303,14 @@ contains
       if (ndim == 3) call columns_across(file, ar, zdom, ncol, pitch, target)
       turn_max = 0.0_rp
       if (ndim == 3 .and. ar%placement_id == placement_irregular) turn_max = fitting_turn(ar, pitch)
+      layer%turn_max = turn_max/deg
       allocate (units(0), toes(0))
       por_sum = 0.0_rp
       do j = 1, ncol
-         call fit_row(file, ar, target, s_max, ar%seed + (j - 1)*7919, turn_max, r, n)
+         call fit_row(file, ar, target, s_max, stream(ar%seed, (j - 1)*7919), turn_max, r, n)
          if (n > 1) por_sum = por_sum + row_porosity(r, n)
          zc = zdom(1) + (j - 0.5_rp)*pitch
-         zstate = ar%seed + 104729*j
+         zstate = stream(ar%seed, 104729*j)
          if (ar%toe_block) then
             toes = [toes, unit_cfg(ar, p0, t, nrm, layer%alpha, 0.5_rp*ar%dn, 0.0_rp, ar%dn, 0.0_rp)]
             m = size(toes)
@@ -425,7 +427,7 @@ contains
       if (n < 1) call input_error(file, g, 'dn', 'no unit of side '//real_str(ar%dn)// &
          ' m fits on the front slope (length '//real_str(s_max)//' m from the toe to the crest)')
       if (ar%n_units > n) call input_error(file, g, 'n_units', 'at most '//int_str(n)//' units of side '// &
-         real_str(ar%dn)//' m fit on the front slope at porosity '//real_str(target)//' (got '// &
+         real_str(ar%dn)//' m fit on the front slope at porosity '//real_str(ar%porosity)//' (got '// &
          int_str(ar%n_units)//')')
       if (ar%n_units > 0) then
          n = ar%n_units
@@ -479,7 +481,7 @@ contains
          end do
       end if
       if (turn_max > 0.0_rp) then
-         state = mod(seed + 15485863, huge(1))
+         state = stream(seed, 15485863)
          do i = 1, ncap
             r%turn(i) = (2.0_rp*uniform(state) - 1.0_rp)*turn_max
          end do
@@ -632,6 +634,14 @@ contains
       b%generated = .true.
    end function unit_cfg
 
+   !> The start of a stream of uniform: seed + offset, kept within the
+   !> generator's range (a seed near huge(1) would overflow the sum).
+   integer function stream(seed, offset) result(state)
+      integer, intent(in) :: seed, offset
+      integer, parameter :: i8 = selected_int_kind(18)
+      state = int(mod(int(seed, i8) + int(offset, i8), 2147483646_i8))
+   end function stream
+
    !> Uniform number in [0, 1) from a 31-bit Park-Miller generator: the same
    !> layer from the same seed on every machine and compiler.
    real(rp) function uniform(state) result(u)
@@ -781,5 +791,7 @@ contains
       line = trim(buf)
       ! 3D: the width of the strip, for Nod per dn of width
       if (ndim == 3) line = line//',width='//trim(real_str(layer%width))
+      ! 3D, irregular: the bound of the turns drawn about the slope's normal, max_turn or what a slot leaves
+      if (ndim == 3) line = line//',turn_max_deg='//trim(real_str(layer%turn_max))
    end function armour_csv_header
 end module scene_flume

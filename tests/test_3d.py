@@ -209,12 +209,14 @@ def strip_tank_text(width: float) -> str:
 
 def test_3d_still_water_on_repulsive_walls(tmp_path: Path, mbsph3d: Path, mbsph: Path) -> None:
     """The repulsive boundary in 3D on a strip three particles wide with periodic sides,
-    the section of the 2D tank: after 20 sqrt(H/g) the bed pressure within the 2D
-    repulsive tank's bar, 4 % of rho0 g H (tests/test_repulsive.py: the boundary's known
-    excess), no water past a wall surface, settled as the 2D tank (mean speed within
-    1e-2 sqrt(gH), its bar), none lost. (That the wall force does not depend on where a
-    particle stands along the wall is tests/unit/test_repulsive.f90's.) Measured: 3D
-    +3.30 %, 2D +4.22 %; doc/3d.md says why they differ."""
+    the section of the 2D tank: after 20 sqrt(H/g) the bed pressure no farther from
+    rho0 g H than the 2D section's on the same walls, within 0.5 % of rho0 g H (the
+    spread allowed between the builds' dynamic tanks above): the 3D build adds no error
+    to the boundary's known excess (tests/test_repulsive.py; doc/theory.md). No water
+    past a wall surface, settled as the 2D tank (mean speed within 1e-2 sqrt(gH), its
+    bar), none lost. (That the wall force does not depend on where a particle stands
+    along the wall is tests/unit/test_repulsive.f90's.) Measured: 3D +3.14 %, 2D +4.22 %;
+    doc/3d.md says why they differ."""
     (tmp_path / "3d").mkdir()
     (tmp_path / "2d").mkdir()
     proc, out3 = run_case(repulsive(strip_tank_text(3 * DP)), tmp_path / "3d", binary=mbsph3d, timeout=900.0)
@@ -224,7 +226,7 @@ def test_3d_still_water_on_repulsive_walls(tmp_path: Path, mbsph3d: Path, mbsph:
     err3, snap3 = bed_error(out3)
     err2, _ = bed_error(out2)
     assert snap3.time >= T_SETTLE
-    assert abs(err3) <= 0.04, f"bed pressure off by {100 * err3:+.2f} % (bar 4 %; 2D: {100 * err2:+.2f} %)"
+    assert abs(err3) <= abs(err2) + 0.005, f"bed pressure: 3D {100 * err3:+.2f} %, 2D {100 * err2:+.2f} % of rho0 g H"
     for path in snapshots(out3):
         snap = read_snapshot(path)
         x = snap.position[snap.fluid]
@@ -304,6 +306,10 @@ def test_2d_checkpoint_is_refused_by_the_3d_solver(tmp_path: Path, mbsph: Path, 
                                        "density = 500.0 /\n", ("box and STL bodies",)),
     ("&body #1: depth:", lambda t: t + "&body shape = 'box', x = 0.05, y = 0.05, z = 0.015, width = 0.02, "
                                        "height = 0.02, density = 500.0 /\n", ("allowed range",)),
+    # the repulsive force over a body's lattice would need the body's turn
+    ("&numerics: boundary:", lambda t: repulsive(t) + "&body shape = 'box', x = 0.05, y = 0.05, z = 0.015, "
+                                       "width = 0.02, height = 0.02, depth = 0.02, density = 500.0 /\n",
+     ("&body", "'dynamic' or 'mdbc'")),
 ])
 def test_3d_refuses_what_it_does_not_model(where: str, edit, words: tuple[str, ...], tmp_path: Path,
                                           mbsph3d: Path) -> None:
@@ -694,8 +700,11 @@ def test_3d_armour_layer_across_the_width(placement: str, armour: str, tmp_path:
     width, so that Nod counts displaced units per dn of width. Worked out independently
     from armour.csv: every unit rests on the slope line (its lowest corner within 1e-7 m
     of the others'), no two units overlap (along the slope within a row, across between
-    slots), and each row's porosity by Monte Carlo (2e5 points, sampling error 1e-3)
-    matches the one the builder reports within 0.01."""
+    slots), and the rows' mean porosity by Monte Carlo (2e5 points a row: 5e-4 standard
+    error of the mean of four) matches the one the builder reports within 0.003 (six
+    standard errors; the builder's sampling grid of dn/40 adds less). The volume in the
+    band does not tell the turned chord of the builder's count from the unturned square
+    (the turns are small); what the turns move, the units' places, is checked."""
     from post.armour import read_armour
     proc, out = run_case(strip_text(placement=placement, armour=armour), tmp_path, binary=mbsph3d)
     assert_ok(proc)
@@ -734,7 +743,7 @@ def test_3d_armour_layer_across_the_width(placement: str, armour: str, tmp_path:
         m = m[np.argsort(geo["s_lo"][m])]
         assert np.all(geo["s_lo"][m[1:]] >= geo["s_hi"][m[:-1]] - 1e-9)
     assert np.all(geo["z_lo"] >= column * pitch - 1e-12) and np.all(geo["z_hi"] <= (column + 1) * pitch + 1e-12)
-    assert abs(np.mean(geo["porosity"]) - layer.meta["porosity"]) <= 0.01, (geo["porosity"], layer.meta)
+    assert abs(np.mean(geo["porosity"]) - layer.meta["porosity"]) <= 0.003, (geo["porosity"], layer.meta)
     # the plan view (post.armour's armour_plan.png): each unit's outline on the slope plane
     # has the area of the cube's shadow along the slope's normal n, dn^2 sum_i |n . R e_i|
     from post.armour import footprint, main as armour_main, unit_rotations
@@ -765,6 +774,26 @@ def test_3d_refuses_a_strip_it_cannot_build(edit: dict, where: str, words: tuple
     for word in words:
         assert word in proc.stderr, proc.stderr
     assert not out.exists()
+
+
+def test_3d_turns_are_what_refuses_the_dense_layer(tmp_path: Path, mbsph3d: Path) -> None:
+    """The layer test_3d_refuses_a_strip_it_cannot_build refuses with max_turn = 45 builds
+    without turns: the advice of its message (a smaller max_turn) is the remedy."""
+    from post.armour import read_armour
+    proc, out = run_case(strip_text(placement="irregular", armour=", porosity = 0.17, max_turn = 0.0"), tmp_path,
+                         binary=mbsph3d)
+    assert_ok(proc)
+    assert abs(read_armour(out).meta["porosity"] - 0.17) <= 0.02
+
+
+@pytest.mark.parametrize("periodic, note", [(False, True), (True, False)])
+def test_3d_repulsive_side_walls_are_noted(periodic: bool, note: bool, tmp_path: Path, mbsph3d: Path) -> None:
+    """Between side walls the 3D repulsive boundary keeps a current in still water
+    (doc/3d.md); the run's banner says so, and says nothing on a periodic strip."""
+    text = repulsive(strip_tank_text(3 * DP) if periodic else tank3d_text())
+    proc, _ = run_case(text.replace("out_dir = 'OUT',", "out_dir = 'OUT', max_steps = 1,"), tmp_path, binary=mbsph3d)
+    assert_ok(proc)
+    assert ("current runs along side walls" in proc.stdout) == note, proc.stdout[:3000]
 
 
 def test_2d_refuses_rows_across(tmp_path: Path, mbsph: Path) -> None:
