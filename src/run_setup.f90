@@ -394,14 +394,23 @@ contains
          ' units of dn = '//real_str(c%armour%dn)//' m, density '//real_str(c%armour%density)// &
          ' kg/m3 on a slope of '//real_str(c%layer%alpha*57.29577951308232_rp)//' deg, porosity '// &
          real_str(c%layer%porosity)//' (target '//real_str(c%armour%porosity)//')')
-      if (c%armour%on .and. c%layer%turn_max > 0.0_rp) call log_line('  armour: turned about the slope''s normal '// &
-         'by up to '//real_str(c%layer%turn_max)//' deg (max_turn '//real_str(c%armour%max_turn)// &
-         ', held to what a slot across leaves)')
-      if (ndim == 3 .and. r%prm%boundary == bnd_repulsive .and. side_walls(c)) call log_line('  note: on the '// &
-         'repulsive boundary a current runs along side walls in still water (doc/3d.md, "Wall surfaces")')
+      call banner_3d(r, c)
       call log_line('  output: '//r%out//', snapshot every '//real_str(c%run%dt_out)//' s until t = '// &
                     real_str(c%run%t_end)//' s')
    end subroutine banner
+
+   !> The banner's lines of the 3D build: the armour's turns, the repulsive
+   !> boundary's side walls.
+   subroutine banner_3d(r, c)
+      type(run_t), intent(in) :: r
+      type(case_cfg), intent(in) :: c
+      if (ndim /= 3) return
+      if (c%armour%on .and. c%layer%turn_max > 0.0_rp) call log_line("  armour: turned about the slope's normal "// &
+         'by up to '//real_str(c%layer%turn_max)//' deg (max_turn '//real_str(c%armour%max_turn)// &
+         ', held to what a slot across leaves)')
+      if (r%prm%boundary == bnd_repulsive .and. side_walls(c)) call log_line('  note: on the '// &
+         'repulsive boundary a current runs along side walls in still water (doc/3d.md, "Wall surfaces")')
+   end subroutine banner_3d
 
    !> 3D: whether a solid ends across the width inside the domain (a side wall's face).
    logical function side_walls(c)
