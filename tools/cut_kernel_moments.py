@@ -1,7 +1,7 @@
 """The moment of the SPH pressure gradient that a particle next to a repulsive wall keeps
 (doc/theory.md, "What the repulsive wall cannot do"; doc/3d.md): the sum over the water
 alone of V_j (y_j - y_i) dW_ij/dy_i on a square (cubic) lattice of spacing dp, Wendland
-kernel at h = sqrt(2) dp, in 2D and 3D. A full support gives about 1; a cut one the share
+kernel at h = sqrt(2) dp, in 2D and 3D (and in 3D at a vertical corner of two walls). A full support gives about 1; a cut one the share
 of the vertical pressure gradient the particle feels from its neighbours.
 
     .venv/bin/python tools/cut_kernel_moments.py
@@ -39,6 +39,9 @@ def main() -> None:
     print(f"{'where':50s} {'2D':>7s} {'3D':>7s}")
     for name, keep in cases:
         print(f"{name:50s} {moment(2, keep):7.4f} {moment(3, keep):7.4f}")
+    # a vertical corner, where a side wall meets an end wall, has no 2D counterpart
+    corner = moment(3, lambda p: p[0] >= 0 and p[2] >= 0)
+    print(f"{'vertical corner of two walls (water x, z >= 0)':50s} {'-':>7s} {corner:7.4f}")
 
 
 if __name__ == "__main__":

@@ -39,6 +39,14 @@ def report(name: str, out: Path, seconds: float, width: float) -> str:
         line += (f"; least distance from a side wall {dz.min() / T.DP:.2f} dp, mean speed within dp of the "
                  f"side walls {speed[dz < T.DP].mean() / scale:.2e}, 4 dp from every wall "
                  f"{speed[(dz > 4 * T.DP) & (dx > 4 * T.DP)].mean() / scale:.2e} sqrt(gH)")
+        # where it runs: the vertical corners (within dp of a side wall, 3 dp of an end wall) at mid-depth,
+        # against the side walls' middles
+        mid = (x[:, 1] > 0.3 * T.H) & (x[:, 1] < 0.7 * T.H)
+        corner = (dz < T.DP) & (dx < 3 * T.DP) & mid
+        middle = (dz < T.DP) & (dx > 3 * T.DP) & mid
+        v = snap.velocity[snap.fluid]
+        line += (f"; at mid-depth the mean vertical velocity in the vertical corners {v[corner, 1].mean():+.4f} m/s, "
+                 f"along the side walls' middles {v[middle, 1].mean():+.4f} m/s")
     return line
 
 
