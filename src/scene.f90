@@ -492,21 +492,31 @@ contains
    end subroutine add_mesh_solid
 
    !> No body starts inside an &stl solid (bodies may touch walls, not cut into
-   !> them): none of its particles lies inside the mesh.
+   !> them), nor a moving wall or a filter: a mesh leaves out the points another
+   !> solid holds, so a wall that moves off them, or a filter (which carries no
+   !> water), would leave a hole in it. None of their particles lies inside a
+   !> mesh at the start (a wall's later motion is not checked).
    subroutine bodies_clear_of_meshes(c, p)
       type(case_cfg), intent(in) :: c
       type(particles_t), intent(in) :: p
-      integer :: i, k, b
+      integer :: i, k, b, nobj
       real(rp) :: x(3)
       if (size(c%meshes) == 0) return
+      nobj = size(c%objs)
       particles: do i = 1, p%n
-         b = p%body(i) - size(c%objs)
-         if (b < 1 .or. b > size(c%bodies)) cycle particles
+         b = p%body(i)
+         if (b < 1 .or. b > nobj + size(c%bodies)) cycle particles    ! water, and the meshes' own particles
+         if (b <= nobj .and. p%kind(i) /= kind_moving .and. p%kind(i) /= kind_filter) cycle particles
          x = 0.0_rp
          x(1:ndim) = p%x(:, i)
          k = mesh_holding(c%meshes, x, 0)
-         if (k > 0) call input_error(c%file, 'body #'//int_str(b), '', &
+         if (k == 0) cycle particles
+         if (b > nobj) call input_error(c%file, 'body #'//int_str(b - nobj), '', &
             'the body overlaps the solid &stl #'//int_str(k)//' (bodies may touch walls, not cut into them)')
+         call input_error(c%file, trim(c%objs(b)%group)//' #'//int_str(c%objs(b)%index), '', 'the '// &
+            trim(merge('moving wall', 'filter     ', p%kind(i) == kind_moving))//' overlaps the solid &stl #'// &
+            int_str(k)//' (the mesh leaves out the points it holds: a hole where it moves off or lets water '// &
+            'through); keep it clear of the mesh')
       end do particles
    end subroutine bodies_clear_of_meshes
 

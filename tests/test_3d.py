@@ -1612,13 +1612,22 @@ def test_3d_refuses_a_bad_stl_solid(text: str, x1: float, where: str, words: tup
     assert not out.exists()
 
 
-def test_3d_refuses_a_body_inside_an_stl_solid(tmp_path: Path, mbsph3d: Path) -> None:
+@pytest.mark.parametrize("inside, where", [
+    ("&body shape = 'box', x = 0.085, y = 0.02, z = 0.015, width = 0.01, height = 0.01, depth = 0.01, "
+     "density = 2400.0 /", "&body #1: the body overlaps the solid &stl #1"),
+    # the mesh leaves out the points another solid holds: a wall moving off them, or a
+    # filter letting water through them, would open a hole in it
+    ("&box role = 'solid', xmin = 0.075, xmax = 0.095, ymin = 0.005, ymax = 0.03, zmin = 0.005, zmax = 0.025, "
+     "motion = 'oscillate', amplitude = 0.001, 0.0, period = 1.0 /", "&box #7: the moving wall overlaps the solid &stl #1"),
+    ("&slope role = 'filter', x0 = 0.06, y0 = 0.0, x1 = 0.1, y1 = 0.03, zmin = 0.0, zmax = 0.03 /",
+     "&slope #1: the filter overlaps the solid &stl #1"),
+], ids=["body", "moving wall", "filter"])
+def test_3d_refuses_a_body_inside_an_stl_solid(inside: str, where: str, tmp_path: Path, mbsph3d: Path) -> None:
     write_stl(tmp_path / "block.stl", box_mesh([0.07, 0.0, 0.0], [0.1, 0.04, 0.03]))
-    text = STL_TANK.format(block="&stl stl_file = 'block.stl' /\n&body shape = 'box', x = 0.085, y = 0.02, z = 0.015, "
-                                 "width = 0.01, height = 0.01, depth = 0.01, density = 2400.0 /")
+    text = STL_TANK.format(block="&stl stl_file = 'block.stl' /\n" + inside)
     proc, out = run_case(text, tmp_path, binary=mbsph3d)
     assert proc.returncode == EXIT_INPUT, describe(proc)
-    assert "&body #1: the body overlaps the solid &stl #1" in proc.stderr, proc.stderr
+    assert where in proc.stderr, proc.stderr
     assert not out.exists()
 
 
