@@ -19,6 +19,7 @@ A series file (TOML)::
     absorb = true                     # the paddle absorbs the waves coming back
     toe_gauges = [2.2, 2.4, 2.65]     # three elevation gauges in front of the toe [m]
     rocking_deg = 5.0                 # a unit rocks when it turns more than this and returns
+    count_from = "start"              # displacement from the layer as placed, or "settle": as settled
     checkpoint_every = 0              # steps of the solver between checkpoints (0: at each end)
 
     [patch]                           # optional: namelist values for every step
@@ -40,7 +41,9 @@ incident Hm0 and H2% in front of the toe over the step's whole wave as it passes
 with the mean still-water depth at the gauges, over 0.5 to 3 times 1/Tp; H2% by zero up-crossing of the incident
 series rebuilt from the separated spectrum), the reflection coefficient, the stability
 number Ns = Hm0 / (Delta dn), the units displaced by more than ``threshold`` dn since the
-start of the series (cumulative: Nod of the 2D strip), the units that rocked in the step
+start of the series (cumulative: Nod of the 2D strip; with ``count_from = "settle"``
+since the end of the settling run, so that a layer closing its placement gaps in still
+water is not counted as damage), the units that rocked in the step
 (turned by more than ``rocking_deg`` and came back within it) and the largest
 displacement. ``<out>/series.png`` shows Nod against Ns; ``--overlay`` draws the curves
 of several series (both placements, several seeds) on one figure from their CSVs.
@@ -96,13 +99,14 @@ class Series:
     absorb: bool = True
     toe_gauges: list[float] = field(default_factory=list)
     rocking_deg: float = 5.0
+    count_from: str = "start"
     checkpoint_every: int = 0
     steps: list[Step] = field(default_factory=list)
     patch: dict[str, dict[str, Any]] = field(default_factory=dict)
 
 
 _KEYS = {"case", "out", "ranks", "settle", "tp", "gamma", "waves", "rest", "ramp_periods", "absorb", "toe_gauges",
-         "rocking_deg", "checkpoint_every"}
+         "rocking_deg", "count_from", "checkpoint_every"}
 
 
 def load_series(path: str | Path) -> Series:
@@ -137,6 +141,11 @@ def load_series(path: str | Path) -> Series:
         if not isinstance(s["absorb"], bool):
             raise SeriesError(f"{path}: [series]: absorb must be true or false")
         ser.absorb = s["absorb"]
+    if "count_from" in s:
+        if s["count_from"] not in ("start", "settle"):
+            raise SeriesError(f"{path}: [series]: count_from = {s['count_from']!r}: \"start\" (the layer as "
+                              f"placed) or \"settle\" (the layer at the end of the settling run)")
+        ser.count_from = s["count_from"]
     ser.toe_gauges = [float(x) for x in s.get("toe_gauges", [])]
     if len(ser.toe_gauges) != 3 or sorted(ser.toe_gauges) != ser.toe_gauges:
         raise SeriesError(f"{path}: [series]: toe_gauges must be three increasing positions [m] in front of the toe")
@@ -301,6 +310,44 @@ class StepResult:
     max_disp_dn: float
 
 
+def displacement_from(mo: armour.UnitMotion, t_ref: float | None) -> np.ndarray:
+    """The unit's displacement at each of its rows: from where it was placed (t_ref None,
+    the output's own column), or from where it stood at t_ref (its last row at or before
+    it; the centre's distance, in 3D across the width too)."""
+    if t_ref is None:
+        return mo.displacement
+    before = np.nonzero(mo.time <= t_ref + 1e-9)[0]
+    if before.size == 0:
+        raise SeriesError(f"body {mo.body}: no row at or before t = {t_ref} s to count its displacement from")
+    k = before[-1]
+    d2 = (mo.x - mo.x[k]) ** 2 + (mo.y - mo.y[k]) ** 2
+    if mo.z is not None:
+        d2 = d2 + (mo.z - mo.z[k]) ** 2
+    return np.sqrt(d2)
+
+
+def count_damage(motions: list[armour.UnitMotion], limit: float, rocking_deg: float, tt: StepTimes,
+                 t_ref: float | None) -> tuple[int, int, float]:
+    """Up to the end of step tt: the units whose last displacement (displacement_from
+    t_ref) exceeds limit [m], the units that turned by more than rocking_deg within the
+    step and came back within it, and the largest displacement [m]."""
+    displaced = rocking = 0
+    worst = 0.0
+    for mo in motions:
+        upto = mo.time <= tt.end + 1e-9
+        if not np.any(upto):
+            continue
+        d = displacement_from(mo, t_ref)[upto]
+        displaced += int(d[-1] > limit)
+        worst = max(worst, float(np.max(d)))
+        inside = upto & (mo.time >= tt.start - 1e-9)
+        if np.any(inside):
+            rot = np.degrees(mo.rotation[inside] - mo.rotation[inside][0])
+            if np.max(np.abs(rot)) > rocking_deg and abs(rot[-1]) <= rocking_deg:
+                rocking += 1
+    return displaced, rocking, worst
+
+
 def analyse_step(ser: Series, k: int) -> StepResult:
     """Waves and damage of step k (1..) from the series' output folder."""
     out = ser.out / "run"
@@ -326,23 +373,11 @@ def analyse_step(ser: Series, k: int) -> StepResult:
     bodies = read_csv(out / "bodies.csv")
     rho_w = float(lay.meta.get("rho_water", 1000.0))
     ns = armour.stability_number(hm0_i, lay.dn, float(lay.meta["density"]), rho_w)
-    displaced = rocking = 0
-    worst = 0.0
-    for b in lay.body:
-        mo = armour.unit_motion(bodies, int(b))
-        upto = mo.time <= tt.end + 1e-9
-        if not np.any(upto):
-            continue
-        d = mo.displacement[upto]
-        displaced += int(d[-1] > lay.threshold * lay.dn)
-        worst = max(worst, float(np.max(d)) / lay.dn)
-        inside = upto & (mo.time >= tt.start - 1e-9)
-        if np.any(inside):
-            rot = np.degrees(mo.rotation[inside] - mo.rotation[inside][0])
-            if np.max(np.abs(rot)) > ser.rocking_deg and abs(rot[-1]) <= ser.rocking_deg:
-                rocking += 1
+    t_ref = ser.settle if ser.count_from == "settle" else None
+    displaced, rocking, worst = count_damage([armour.unit_motion(bodies, int(b)) for b in lay.body],
+                                             lay.threshold * lay.dn, ser.rocking_deg, tt, t_ref)
     return StepResult(k, ser.steps[k - 1].hs, ser.steps[k - 1].seed, tt.start, tt.end, hm0_i, h2_percent(tu, eta_i),
-                      hm0_r / hm0_i if hm0_i > 0 else float("nan"), ns, displaced, rocking, worst)
+                      hm0_r / hm0_i if hm0_i > 0 else float("nan"), ns, displaced, rocking, worst / lay.dn)
 
 
 _COLS = ["step", "hs_target", "seed", "t_start", "t_end", "Hm0_i", "H2_i", "Kr", "Ns", "displaced", "rocking",
@@ -509,4 +544,4 @@ if __name__ == "__main__":
 
 
 __all__: list[Any] = ["Series", "Step", "load_series", "schedule", "step_text", "incident_series", "h2_percent",
-                      "analyse_step", "run_series", "overlay_data", "plot_overlay", "main"]
+                      "displacement_from", "count_damage", "analyse_step", "run_series", "overlay_data", "plot_overlay", "main"]

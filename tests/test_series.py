@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from post import series, waves
+from post import armour, series, waves
 
 BASE = """\
 [series]
@@ -74,6 +74,7 @@ def test_steps_follow_one_another(tmp_path: Path) -> None:
     (("toe_gauges = [2.2, 2.4, 2.65]", "toe_gauges = [2.2, 2.65]"), ("toe_gauges",)),
     (("[patch]", "[patch]\nrun = {{ t_end = 3.0 }}"), ("&run",)),
     (("tp = 1.4", "tq = 1.4"), ("unknown key", "tq")),
+    (("rest = 2.0", "rest = 2.0\ncount_from = \"placed\""), ("count_from", "settle")),
 ])
 def test_bad_series_file(edit: tuple[str, str], words: tuple[str, ...], tmp_path: Path) -> None:
     with pytest.raises(series.SeriesError) as e:
@@ -124,6 +125,36 @@ def test_van_der_meer_cube_formula() -> None:
     assert (6.7 * nod ** 0.4 / n ** 0.3 + 1.0) * s ** -0.1 == pytest.approx(2.3, rel=1e-12)
     assert float(van_der_meer_cubes_nod(0.99 * s ** -0.1, n, s)) == 0.0
     assert float(van_der_meer_cubes_nod(2.3, 3000.0, s)) > nod
+
+
+def test_damage_counted_from_the_placed_or_the_settled_layer() -> None:
+    """A unit that slides 0.9 dn while the layer settles and 0.3 dn more under the waves
+    is displaced (1.2 dn > 1 dn) counted from its placed position and not (0.3 dn)
+    counted from the settled layer; one that leaves by 1.5 dn under the waves is
+    displaced either way; one that turns 8 degrees and back within the step rocks."""
+    dn, settle = 0.04, 1.0
+    t = np.linspace(0.0, 6.0, 61)
+    tt = series.StepTimes(start=1.0, wave_end=5.0, end=6.0)
+
+    def unit(body: int, s: np.ndarray, rot: np.ndarray) -> armour.UnitMotion:
+        # down a 1:1.5 slope, the displacement column from the placed position
+        cx, cy = 1.5 / math.sqrt(3.25), 1.0 / math.sqrt(3.25)
+        return armour.UnitMotion(body=body, time=t, x=2.0 - cx * s, y=0.5 - cy * s, displacement=np.abs(s),
+                                 rotation=rot)
+
+    settling = np.where(t <= settle, 0.9 * dn * t / settle, 0.9 * dn + 0.3 * dn * np.minimum(t - settle, 1.0))
+    leaving = np.where(t <= 2.0, 0.0, 1.5 * dn * np.minimum(t - 2.0, 1.0))
+    rocking = np.radians(8.0) * np.sin(np.pi * np.clip((t - 2.0) / 2.0, 0.0, 1.0))
+    still = np.zeros_like(t)
+    motions = [unit(1, settling, still), unit(2, leaving, still), unit(3, still, rocking)]
+    n, rock, worst = series.count_damage(motions, dn, 5.0, tt, None)
+    assert (n, rock) == (2, 1)
+    assert worst == pytest.approx(1.5 * dn, rel=1e-12)
+    n, rock, worst = series.count_damage(motions, dn, 5.0, tt, settle)
+    assert (n, rock) == (1, 1)
+    assert series.displacement_from(motions[0], settle)[-1] == pytest.approx(0.3 * dn, rel=1e-9)
+    with pytest.raises(series.SeriesError, match="body 1"):
+        series.displacement_from(motions[0], -1.0)
 
 
 def test_overlay_reads_each_series_and_names_its_layer(tmp_path: Path) -> None:
