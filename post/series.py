@@ -308,6 +308,9 @@ class StepResult:
     displaced: int
     rocking: int
     max_disp_dn: float
+    displaced_closed: int = -1
+    """2D: the units farther than the threshold from the stretch of slope they could slide
+    down by closing the gaps below them (closing_segments); -1 in 3D"""
 
 
 def displacement_from(mo: armour.UnitMotion, t_ref: float | None) -> np.ndarray:
@@ -324,6 +327,54 @@ def displacement_from(mo: armour.UnitMotion, t_ref: float | None) -> np.ndarray:
     if mo.z is not None:
         d2 = d2 + (mo.z - mo.z[k]) ** 2
     return np.sqrt(d2)
+
+
+def closing_segments(lay: armour.ArmourLayer) -> tuple[np.ndarray, np.ndarray] | None:
+    """2D: for each unit, its centre as placed and its centre with every gap below it
+    closed: the units in their order up the slope, each dn above the one below it from the
+    lowest unit (which the toe holds) up, at their own distance from the slope. A 2D layer
+    has its porosity as gaps along the slope, which a layer of cubes in a flume does not
+    have: a unit sliding down onto its lower neighbour closes its gap without leaving the
+    layer. None for a 3D layer (its units stand in slots across the width)."""
+    if lay.z0 is not None:
+        return None
+    a = math.radians(float(lay.meta["slope_angle_deg"]))
+    up = np.array([math.cos(a), math.sin(a)])
+    c0 = np.column_stack([lay.x0, lay.y0])
+    s = c0 @ up
+    order = np.argsort(s, kind="stable")
+    closed = c0.copy()
+    for rank, k in enumerate(order):
+        target = s[order[0]] + rank * lay.dn
+        if s[k] > target:
+            closed[k] = c0[k] - (s[k] - target) * up
+    return c0, closed
+
+
+def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    """The distance of point p from the segment a-b."""
+    ab = b - a
+    den = float(ab @ ab)
+    w = 0.0 if den == 0.0 else min(max(float((p - a) @ ab) / den, 0.0), 1.0)
+    return float(np.linalg.norm(p - a - w * ab))
+
+
+def count_closed(motions: list[armour.UnitMotion], segments: tuple[np.ndarray, np.ndarray] | None,
+                 limit: float, t_end: float) -> int:
+    """The units whose centre at t_end (their last row at or before it) lies farther than
+    limit [m] from the stretch between their placed and their closed-up centre
+    (closing_segments); -1 without segments (3D)."""
+    if segments is None:
+        return -1
+    c0, closed = segments
+    n = 0
+    for k, mo in enumerate(motions):
+        upto = np.nonzero(mo.time <= t_end + 1e-9)[0]
+        if upto.size == 0:
+            continue
+        p = np.array([mo.x[upto[-1]], mo.y[upto[-1]]])
+        n += int(_segment_distance(p, c0[k], closed[k]) > limit)
+    return n
 
 
 def count_damage(motions: list[armour.UnitMotion], limit: float, rocking_deg: float, tt: StepTimes,
@@ -374,14 +425,15 @@ def analyse_step(ser: Series, k: int) -> StepResult:
     rho_w = float(lay.meta.get("rho_water", 1000.0))
     ns = armour.stability_number(hm0_i, lay.dn, float(lay.meta["density"]), rho_w)
     t_ref = ser.settle if ser.count_from == "settle" else None
-    displaced, rocking, worst = count_damage([armour.unit_motion(bodies, int(b)) for b in lay.body],
-                                             lay.threshold * lay.dn, ser.rocking_deg, tt, t_ref)
+    motions = [armour.unit_motion(bodies, int(b)) for b in lay.body]
+    displaced, rocking, worst = count_damage(motions, lay.threshold * lay.dn, ser.rocking_deg, tt, t_ref)
+    closed = count_closed(motions, closing_segments(lay), lay.threshold * lay.dn, tt.end)
     return StepResult(k, ser.steps[k - 1].hs, ser.steps[k - 1].seed, tt.start, tt.end, hm0_i, h2_percent(tu, eta_i),
-                      hm0_r / hm0_i if hm0_i > 0 else float("nan"), ns, displaced, rocking, worst / lay.dn)
+                      hm0_r / hm0_i if hm0_i > 0 else float("nan"), ns, displaced, rocking, worst / lay.dn, closed)
 
 
 _COLS = ["step", "hs_target", "seed", "t_start", "t_end", "Hm0_i", "H2_i", "Kr", "Ns", "displaced", "rocking",
-         "max_disp_dn"]
+         "max_disp_dn", "displaced_closed"]
 
 
 def write_csv(ser: Series, rows: list[StepResult]) -> Path:
@@ -411,6 +463,9 @@ def plot(ser: Series, rows: list[StepResult]) -> Path:
     ns = [r.Ns for r in rows]
     nod = [r.displaced for r in rows]
     ax.plot(ns, nod, "o-", label=f"{ser.name} (cumulative)")
+    if all(r.displaced_closed >= 0 for r in rows):
+        ax.plot(ns, [r.displaced_closed for r in rows], "s--", color="tab:gray",
+                label="beyond the gaps below them (2D)")
     _laboratory(ax)
     # the double-layer cube formula for contrast, at the series' waves so far and mean period
     lay = armour.read_armour(ser.out / "run")
@@ -505,7 +560,8 @@ def run_series(ser: Series, binary: Path, dry_run: bool = False, launcher: str =
             r = analyse_step(ser, k)
             rows.append(r)
             print(f"step {k}: Hm0_i {r.Hm0_i:.4f} m, H2% {r.H2_i:.4f} m, Kr {r.Kr:.2f}, Ns {r.Ns:.2f}, "
-                  f"displaced {r.displaced}, rocking {r.rocking}, largest {r.max_disp_dn:.2f} dn", flush=True)
+                  f"displaced {r.displaced} ({r.displaced_closed} beyond the gaps below them), rocking {r.rocking}, "
+                  f"largest {r.max_disp_dn:.2f} dn", flush=True)
             write_csv(ser, rows)
     if rows:
         plot(ser, rows)
@@ -544,4 +600,4 @@ if __name__ == "__main__":
 
 
 __all__: list[Any] = ["Series", "Step", "load_series", "schedule", "step_text", "incident_series", "h2_percent",
-                      "displacement_from", "count_damage", "analyse_step", "run_series", "overlay_data", "plot_overlay", "main"]
+                      "displacement_from", "count_damage", "closing_segments", "count_closed", "analyse_step", "run_series", "overlay_data", "plot_overlay", "main"]

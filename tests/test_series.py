@@ -157,6 +157,42 @@ def test_damage_counted_from_the_placed_or_the_settled_layer() -> None:
         series.displacement_from(motions[0], -1.0)
 
 
+def test_damage_beyond_the_gaps_of_a_2d_layer() -> None:
+    """Four units up a 1:1.5 slope with gaps of 0.3 dn between them: a unit that slides
+    down onto its lower neighbour (closing its gap and those below it, here 0.9 dn for the
+    top one) is not beyond the gaps; one lifted 1.2 dn off the slope is, and so is one
+    that slides 1.1 dn past its closed-up place, or the lowest unit (no gap below it)
+    sliding 1.1 dn. A 3D layer has no such count."""
+    dn = 0.04
+    a = math.atan(1.0 / 1.5)
+    up, nrm = np.array([math.cos(a), math.sin(a)]), np.array([-math.sin(a), math.cos(a)])
+    c0 = np.array([2.9, 0.45]) + np.outer(np.arange(4) * 1.3 * dn, up)
+    lay = armour.ArmourLayer(meta={"dn": dn, "slope_angle_deg": math.degrees(a)}, unit=np.arange(1, 5),
+                             body=np.arange(2, 6), x0=c0[:, 0], y0=c0[:, 1], angle0=np.full(4, math.degrees(a)))
+    seg = series.closing_segments(lay)
+    assert seg is not None
+    assert np.allclose(seg[1], np.array([2.9, 0.45]) + np.outer(np.arange(4) * dn, up), atol=1e-12)
+    t = np.array([0.0, 1.0])
+
+    def moved(k: int, by: np.ndarray) -> armour.UnitMotion:
+        c = np.vstack([c0[k], c0[k] + by])
+        return armour.UnitMotion(body=k + 2, time=t, x=c[:, 0], y=c[:, 1],
+                                 displacement=np.array([0.0, float(np.linalg.norm(by))]), rotation=np.zeros(2))
+
+    closing = [moved(k, -0.3 * k * dn * up) for k in range(4)]
+    assert series.count_closed(closing, seg, dn, 1.0) == 0
+    # the lab's count takes the top unit (0.9 dn) and not the others
+    assert series.count_damage(closing, 0.85 * dn, 5.0, series.StepTimes(0.0, 1.0, 1.0), None)[0] == 1
+    leaving = [moved(0, -1.1 * dn * up), moved(1, 1.2 * dn * nrm), moved(2, -(0.6 + 1.1) * dn * up),
+               moved(3, -0.9 * dn * up)]
+    assert series.count_closed(leaving, seg, dn, 1.0) == 3
+    assert series.count_closed(leaving, seg, dn, 0.5) == 0        # before they moved
+    lay3 = armour.ArmourLayer(meta=lay.meta, unit=lay.unit, body=lay.body, x0=lay.x0, y0=lay.y0,
+                              angle0=lay.angle0, z0=np.zeros(4))
+    assert series.closing_segments(lay3) is None
+    assert series.count_closed(leaving, None, dn, 1.0) == -1
+
+
 def test_overlay_reads_each_series_and_names_its_layer(tmp_path: Path) -> None:
     """The overlay takes Ns and Nod from each series' CSV and labels each curve with the
     layer it tested (placement and seed, the [patch] over the base case); a series not
